@@ -89,6 +89,21 @@ def bundled_table_paths() -> list[Path]:
     return sorted(Path(str(p)) for p in folder.iterdir() if p.name.endswith(".csv"))
 
 
+def bundled_table(stem: str) -> Path:
+    """The bundled table called ``stem`` (e.g. ``"paper_table1"``).
+
+    Examples
+    --------
+    >>> bundled_table("paper_table1").name
+    'paper_table1.csv'
+    """
+    for path in bundled_table_paths():
+        if path.stem == stem:
+            return path
+    raise InputError(f"no bundled vehicle table {stem!r}; there are "
+                     f"{', '.join(p.stem for p in bundled_table_paths())}")
+
+
 def unknown_name_message(name: str, known: Sequence[str]) -> str:
     close = difflib.get_close_matches(name, known, n=3, cutoff=0.5)
     hint = f"; did you mean {', '.join(repr(c) for c in close)}?" if close else ""
@@ -116,7 +131,7 @@ def load_tables(
 
     Examples
     --------
-    >>> t = load_tables(names=["2009 Smart Car"])
+    >>> t = load_tables([bundled_table("paper_table1")], names=["2009 Smart Car"])
     >>> round(float(t.frame["wheelbase_m"].iloc[0]), 4)
     1.8669
     """
