@@ -265,6 +265,8 @@ def _row(raw: dict[str, str], where: str, problems: list[str],
     v: dict[str, object] = {}
     for cname, text in raw.items():
         col = ALL_COLUMNS[cname]
+        if cname == "units":
+            continue  # checked above
         if text == "":
             if col in REQUIRED:
                 problems.append(f"{where}: column {cname}: empty: a required value")
