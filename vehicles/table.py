@@ -107,7 +107,8 @@ def bundled_table(stem: str) -> Path:
 def unknown_name_message(name: str, known: Sequence[str]) -> str:
     close = difflib.get_close_matches(name, known, n=3, cutoff=0.5)
     hint = f"; did you mean {', '.join(repr(c) for c in close)}?" if close else ""
-    return f"unknown vehicle {name!r}{hint} (known: {len(known)} vehicles, see `clearance vehicles`)"
+    return (f"unknown vehicle {name!r}{hint} (known: {len(known)} vehicles, "
+            "see `clearance vehicles`)")
 
 
 def load_tables(

@@ -1,0 +1,74 @@
+"""`clearance vehicles` as a user runs it: CSV columns, units, bad input exit status 2."""
+
+import csv
+import subprocess
+import sys
+
+import pytest
+
+from reports.cli import main
+from vehicles.table import bundled_table
+
+FT = 0.3048
+REQUIRED = ["vehicle", "wheelbase", "track", "width", "max_steer_deg", "outer_steer_deg",
+            "ackermann_angle_deg", "min_radius", "ctr", "curb_to_curb", "wall_to_wall",
+            "inside_radius", "swept_width", "offtracking"]
+
+
+def read(path):
+    with open(path, newline="") as fh:
+        return list(csv.DictReader(fh))
+
+
+def test_writes_csv_with_the_required_columns_in_metres_and_feet(tmp_path, capsys):
+    paper = str(bundled_table("paper_table1"))
+    assert main(["vehicles", "-t", paper, "-o", str(tmp_path / "m.csv")]) == 0
+    assert main(["vehicles", "-t", paper, "--units", "ft", "-o", str(tmp_path / "f.csv")]) == 0
+    out = capsys.readouterr().out
+    assert "2009 Smart Car" in out and "curb to curb" in out
+    m, f = read(tmp_path / "m.csv"), read(tmp_path / "f.csv")
+    assert len(m) == len(f) == 24
+    assert all(c in m[0] for c in REQUIRED)
+    smart = next(r for r in f if r["vehicle"] == "2009 Smart Car")
+    assert float(smart["wheelbase"]) == pytest.approx(6.125, rel=1e-5)
+    assert float(smart["curb_to_curb"]) == pytest.approx(27.7, abs=0.05)
+    assert float(smart["max_steer_deg"]) == pytest.approx(40.0)
+    for rm, rf in zip(m, f, strict=True):
+        assert float(rm["ctr"]) == pytest.approx(float(rf["ctr"]) * FT, rel=1e-5)
+        assert float(rm["outer_steer_deg"]) == pytest.approx(float(rf["outer_steer_deg"]))
+
+
+def test_selects_vehicles_by_name(tmp_path):
+    out = tmp_path / "v.csv"
+    assert main(["vehicles", "--vehicle", "2010 Honda Pilot", "--vehicle", "2009 Smart Car",
+                 "-t", str(bundled_table("paper_table1")), "-o", str(out)]) == 0
+    assert [r["vehicle"] for r in read(out)] == ["2010 Honda Pilot", "2009 Smart Car"]
+
+
+def test_bundled_tables_by_default(tmp_path):
+    out = tmp_path / "all.csv"
+    assert main(["vehicles", "-o", str(out)]) == 0
+    names = {r["vehicle"] for r in read(out)}
+    assert "2009 Smart Car" in names and "SU-30" in names
+
+
+def test_bad_table_exits_2_without_traceback_and_keeps_old_output(tmp_path):
+    bad = tmp_path / "bad.csv"
+    bad.write_text("name,category,units,length,width,wheelbase,front_overhang,source,"
+                   "max_steer_deg\nA,car,m,4.5,1.8,2.7,0.9,test,95\nB,car,m,x,1.8,2.7,0.9,t,30\n")
+    out = tmp_path / "out.csv"
+    out.write_text("previous\n")
+    proc = subprocess.run([sys.executable, "-m", "reports.cli", "vehicles", "-t", str(bad),
+                           "-o", str(out)], capture_output=True, text=True)
+    assert proc.returncode == 2
+    assert "Traceback" not in proc.stderr
+    assert "bad.csv:2 (A): column max_steer_deg: '95'" in proc.stderr
+    assert "bad.csv:3 (B): column length: 'x': not a number" in proc.stderr
+    assert out.read_text() == "previous\n"
+
+
+def test_unknown_vehicle_and_missing_table_exit_2(capsys):
+    assert main(["vehicles", "--vehicle", "Batmobile"]) == 2
+    assert "unknown vehicle 'Batmobile'" in capsys.readouterr().err
+    assert main(["vehicles", "-t", "/no/such/table.csv"]) == 2
+    assert "/no/such/table.csv: no such vehicle table" in capsys.readouterr().err
