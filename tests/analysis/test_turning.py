@@ -129,3 +129,14 @@ def test_steering_sweep_goes_from_straight_to_full_lock():
     assert math.degrees(s.inner_rad.iloc[-1]) == pytest.approx(40.0, abs=1e-6)
     assert np.all(np.diff(s.rho_m.iloc[1:]) < 0)
     assert s.rho_m.iloc[-1] == pytest.approx(t.frame.min_radius_m[0], rel=1e-6)
+
+
+def test_aashto_single_units_reproduce_the_published_inside_radius():
+    # Green Book Table 2-2a minimum inside radii, from the published CTR and wheelbase; the
+    # rectangle model may differ by the published rounding and body shape (< 0.5 ft).
+    t = load_tables([bundled_table("aashto_green_book")])
+    f = t.frame[t.frame["trailer_wheelbase_m"].isna()]
+    m = full_lock_metrics(f)
+    published = f["ref_inside_radius_m"]
+    assert len(f) >= 4 and published.notna().all()
+    np.testing.assert_allclose(m.inside_radius_m / FT, published / FT, atol=0.5)
