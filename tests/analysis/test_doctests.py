@@ -11,6 +11,8 @@ MODULES = [
     "analysis.kinematics",
     "analysis.trailer",
     "analysis.polyline",
+    "analysis.tracking",
+    "analysis.envelope",
 ]
 
 

@@ -1,0 +1,411 @@
+"""Swept path of a run: body envelopes, wheel tracks, offtracking and swept width.
+
+Definitions
+-----------
+Body rectangles
+    The towing unit spans ``-a_r .. l + a_f`` along its centre line from the rear-axle centre
+    and ``+-B/2`` across; a trailer spans ``-a_r,t .. l_t + a_f,t`` from its axle centre
+    (its nose ``a_f,t`` ahead of the hitch) and ``+-B_t/2``.
+Swept envelope
+    The union, over consecutive *key* samples, of the convex hull of the body rectangle at
+    both samples. Between two samples a rigid body translates and rotates a little; the hull
+    of its two positions covers the positions in between except for the sagitta of the
+    corners' arcs, about ``(ds + D dtheta) dtheta / 8`` for a reference-point travel ``ds``,
+    a rotation ``dtheta`` and a corner ``D`` from the reference point. Key samples are chosen
+    greedily so that this stays under ``tolerance_m``; in straight driving the hull is exact
+    and samples are skipped freely. The result has no gaps between steps.
+Wheel tracks
+    Contact paths of the wheels as line strings: front and rear wheels at ``+-w/2`` from the
+    axle centres (the rear track is taken equal to the steered track ``w``); trailer wheels at
+    ``+-min(w, B_t)/2`` from the trailer axle centre (the table gives no trailer track).
+Offtracking
+    At each sample, the distance from the rear-axle centre (or the trailer-axle centre) to
+    the path traced so far by the front-axle centre, looking back along that path by twice
+    their current distance (so a later lap of a spiral does not count). The front-axle path
+    is extended straight back from its start, because a run starts aligned and straight.
+    The maximum over the run is reported; in a steady turn it equals ``CTR - rho``.
+Swept width
+    At stations every ``width_step_m`` along the centre line (up to the front axle's last
+    station), the length of the piece of the normal line through the centre-line point that
+    lies inside the envelope and contains that point. The maximum over the stations is
+    reported; in a steady turn it equals
+    ``sqrt((rho + B/2)^2 + (l + a_f)^2) - (rho - B/2)`` (DESIGN.md section 4).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+import shapely
+from numpy.typing import NDArray
+from shapely.geometry.base import BaseGeometry
+
+from analysis.tracking import TrackingRun, Trajectory
+from vehicles.vehicle import Vehicle
+
+FloatArray = NDArray[np.float64]
+
+DEFAULT_TOLERANCE_M = 0.01
+"""Default largest gap between the true swept area and its polygon (m)."""
+
+DEFAULT_WIDTH_STEP_M = 0.5
+"""Default distance between the stations where the swept width is measured (m)."""
+
+
+@dataclass(frozen=True)
+class SweptPath:
+    """Geometry swept by one run.
+
+    Attributes
+    ----------
+    envelope
+        Union of every unit's swept area (Polygon, or MultiPolygon when a drawbar leaves a
+        gap between the units).
+    tractor, trailer
+        Swept area of the towing unit and of the trailer (``None`` without trailer).
+    wheel_tracks
+        Wheel contact paths by name: ``front_left``, ``front_right``, ``rear_left``,
+        ``rear_right`` and, with a trailer, ``trailer_left``, ``trailer_right``.
+    offtracking_m
+        Offtracking of the rear-axle centre at each sample (m).
+    max_offtracking_m, max_offtracking_station_m
+        Its maximum and the front axle's station when it occurred.
+    trailer_offtracking_m, max_trailer_offtracking_m
+        The same for the trailer-axle centre (``None`` without trailer).
+    swept_width_m
+        ``(K, 2)`` array of (station m, swept width m) along the centre line.
+    max_swept_width_m, max_swept_width_station_m
+        Largest swept width and its station.
+    """
+
+    envelope: BaseGeometry
+    tractor: BaseGeometry
+    trailer: BaseGeometry | None
+    wheel_tracks: dict[str, shapely.LineString]
+    offtracking_m: FloatArray
+    max_offtracking_m: float
+    max_offtracking_station_m: float
+    trailer_offtracking_m: FloatArray | None
+    max_trailer_offtracking_m: float | None
+    swept_width_m: FloatArray
+    max_swept_width_m: float
+    max_swept_width_station_m: float
+
+
+def body_corners(
+    x_m: FloatArray,
+    y_m: FloatArray,
+    theta_rad: FloatArray,
+    ahead_m: float,
+    behind_m: float,
+    width_m: float,
+) -> FloatArray:
+    """Corners of a body rectangle about reference points, ``(n, 4, 2)``, counter-clockwise.
+
+    The rectangle spans ``-behind_m .. ahead_m`` along the heading from the reference point
+    and ``+-width_m / 2`` across; corners are rear-right, front-right, front-left, rear-left.
+
+    Examples
+    --------
+    Heading +x (straight ahead):
+
+    >>> body_corners(np.array([0.0]), np.array([0.0]), np.array([0.0]), 4.0, 1.0, 2.0)[0]
+    array([[-1., -1.],
+           [ 4., -1.],
+           [ 4.,  1.],
+           [-1.,  1.]])
+    """
+    c, s = np.cos(theta_rad), np.sin(theta_rad)
+    along = np.array([-behind_m, ahead_m, ahead_m, -behind_m])
+    across = np.array([-0.5, -0.5, 0.5, 0.5]) * width_m
+    cx = x_m[:, None] + along[None, :] * c[:, None] - across[None, :] * s[:, None]
+    cy = y_m[:, None] + along[None, :] * s[:, None] + across[None, :] * c[:, None]
+    return np.stack([cx, cy], axis=-1)
+
+
+def key_samples(
+    x_m: FloatArray,
+    y_m: FloatArray,
+    theta_rad: FloatArray,
+    reach_m: float,
+    tolerance_m: float = DEFAULT_TOLERANCE_M,
+) -> NDArray[np.intp]:
+    """Indices of the samples whose consecutive hulls approximate the sweep within tolerance.
+
+    Greedy: from a key sample ``i``, the next is the farthest ``j`` with
+    ``(S_ij + reach_m A_ij) A_ij / 8 <= tolerance_m``, ``S_ij`` the travel of the reference
+    point and ``A_ij`` the summed absolute rotation between them. The first and last samples
+    are always included.
+
+    Examples
+    --------
+    Straight driving needs only the ends:
+
+    >>> x = np.linspace(0.0, 50.0, 501)
+    >>> key_samples(x, 0 * x, 0 * x, 10.0).tolist()
+    [0, 500]
+    """
+    n = len(x_m)
+    if n <= 2:
+        return np.arange(n)
+    travel = np.concatenate([[0.0], np.cumsum(np.hypot(np.diff(x_m), np.diff(y_m)))])
+    turn = np.concatenate([[0.0], np.cumsum(np.abs(np.diff(theta_rad)))])
+    keys = [0]
+    i = 0
+    while i < n - 1:
+        chunk = 256
+        while True:
+            stop = min(n, i + 1 + chunk)
+            da = turn[i + 1:stop] - turn[i]
+            cost = (travel[i + 1:stop] - travel[i] + reach_m * da) * da / 8.0
+            ok = int(np.searchsorted(cost, tolerance_m, side="right"))
+            if ok < stop - i - 1 or stop == n:
+                break
+            chunk *= 4  # every sample of the chunk passed: look farther
+        i = min(i + max(ok, 1), n - 1)  # a single step is always accepted
+        keys.append(i)
+    return np.asarray(keys, dtype=np.intp)
+
+
+def sweep(
+    x_m: FloatArray,
+    y_m: FloatArray,
+    theta_rad: FloatArray,
+    ahead_m: float,
+    behind_m: float,
+    width_m: float,
+    tolerance_m: float = DEFAULT_TOLERANCE_M,
+) -> BaseGeometry:
+    """Area swept by a rectangle carried along sampled poses (see the module docstring).
+
+    Examples
+    --------
+    Standing still sweeps the rectangle itself; driving straight 10 m adds 10 m:
+
+    >>> sweep(np.zeros(1), np.zeros(1), np.zeros(1), 4.0, 1.0, 2.0).area
+    10.0
+    >>> x = np.linspace(0.0, 10.0, 101)
+    >>> round(sweep(x, 0 * x, 0 * x, 4.0, 1.0, 2.0).area, 9)
+    30.0
+
+    A 3 m bar turning on the spot by a half turn sweeps a disc of radius 1.5 m (the polygon
+    is inscribed in it, short of it by at most the tolerance):
+
+    >>> th = np.linspace(0.0, np.pi, 721)
+    >>> a = sweep(0 * th, 0 * th, th, 1.5, 1.5, 0.0)
+    >>> bool(np.pi * (1.5 - 0.01) ** 2 < a.area < np.pi * 1.5 ** 2)
+    True
+    """
+    keys = key_samples(x_m, y_m, theta_rad, math.hypot(max(ahead_m, behind_m), width_m / 2),
+                       tolerance_m)
+    corners = body_corners(x_m[keys], y_m[keys], theta_rad[keys], ahead_m, behind_m, width_m)
+    if len(keys) == 1:
+        return shapely.convex_hull(shapely.multipoints(corners[0]))
+    pairs = np.concatenate([corners[:-1], corners[1:]], axis=1)
+    hulls = shapely.convex_hull(shapely.multipoints(pairs))
+    return shapely.union_all(hulls)
+
+
+def _nearest_on_segments(
+    px: FloatArray, py: FloatArray, seg: NDArray[np.intp], qx: FloatArray, qy: FloatArray
+) -> tuple[FloatArray, NDArray[np.intp]]:
+    """Squared distance from q_i to segments ``seg[i, :]`` of a polyline; best column."""
+    ax, ay = px[seg], py[seg]
+    dx, dy = px[seg + 1] - ax, py[seg + 1] - ay
+    rx, ry = qx[:, None] - ax, qy[:, None] - ay
+    dd = dx * dx + dy * dy
+    dd_safe = np.where(dd > 0, dd, 1.0)
+    t = np.clip((rx * dx + ry * dy) / dd_safe, 0.0, 1.0)
+    d2 = (rx - t * dx) ** 2 + (ry - t * dy) ** 2
+    best = np.argmin(d2, axis=1)
+    return d2[np.arange(len(qx)), best], best
+
+
+def _offtracking(
+    fx: FloatArray, fy: FloatArray, qx: FloatArray, qy: FloatArray, theta0: float
+) -> FloatArray:
+    """Distance from each point q_i to the front path up to sample i, looking back locally.
+
+    Coarse-to-fine: the nearest chord of a decimated front path (every ``c``-th point) is
+    found in the look-back window, then the ``3 c`` fine segments around it are searched.
+    """
+    n = len(fx)
+    gap = np.hypot(fx - qx, fy - qy)
+    back = float(gap.max()) * 2.0 + 1.0
+    # the front path, extended straight back from its start by `back`
+    px = np.concatenate([[fx[0] - back * math.cos(theta0)], fx])
+    py = np.concatenate([[fy[0] - back * math.sin(theta0)], fy])
+    arc = np.concatenate([[0.0], np.cumsum(np.hypot(np.diff(px), np.diff(py)))])
+    idx = np.arange(n) + 1  # sample i is point idx[i] of the extended path
+    lo = np.searchsorted(arc, arc[idx] - (2.0 * gap + 1.0), side="right") - 1
+    lo = np.clip(lo, 0, idx - 1)
+    width = int((idx - lo).max())
+    c = max(1, math.ceil(width / 40))
+    # coarse pass: chords between every c-th point, clipped to the current sample
+    n_coarse = math.ceil(width / c) + 1
+    start = (lo // c) * c
+    cpts = np.minimum(start[:, None] + c * np.arange(n_coarse + 1)[None, :], idx[:, None])
+    ax, ay = px[cpts[:, :-1]], py[cpts[:, :-1]]
+    dx, dy = px[cpts[:, 1:]] - ax, py[cpts[:, 1:]] - ay
+    rx, ry = qx[:, None] - ax, qy[:, None] - ay
+    dd = dx * dx + dy * dy
+    t = np.clip((rx * dx + ry * dy) / np.where(dd > 0, dd, 1.0), 0.0, 1.0)
+    best = np.argmin((rx - t * dx) ** 2 + (ry - t * dy) ** 2, axis=1)
+    near = cpts[np.arange(n), best]
+    # fine pass around the nearest chord
+    seg = np.clip(near[:, None] + np.arange(-c, 2 * c)[None, :], lo[:, None], idx[:, None] - 1)
+    d2, _ = _nearest_on_segments(px, py, seg, qx, qy)
+    return np.sqrt(d2)
+
+
+def wheel_tracks(vehicle: Vehicle, traj: Trajectory) -> dict[str, shapely.LineString]:
+    """Wheel contact paths of a run (see the module docstring for the tracks used).
+
+    Examples
+    --------
+    >>> from analysis.tracking import simulate
+    >>> car = Vehicle("car", 2.7, 1.5, 1.8, 0.9, 1.0, 0.6, 0.65, 0.5)
+    >>> run = simulate(car, [(0.0, 0.0), (10.0, 0.0)])
+    >>> tracks = wheel_tracks(car, run.trajectory)
+    >>> round(tracks["front_left"].length, 9), tracks["rear_right"].coords[0]
+    (10.0, (-2.7, -0.75))
+    """
+    nx, ny = -np.sin(traj.theta_rad), np.cos(traj.theta_rad)
+    half = vehicle.track_m / 2
+    pts = {
+        "front_left": (traj.xf_m + half * nx, traj.yf_m + half * ny),
+        "front_right": (traj.xf_m - half * nx, traj.yf_m - half * ny),
+        "rear_left": (traj.x_m + half * nx, traj.y_m + half * ny),
+        "rear_right": (traj.x_m - half * nx, traj.y_m - half * ny),
+    }
+    if vehicle.trailer is not None and traj.theta_t_rad is not None:
+        ht = min(vehicle.track_m, vehicle.trailer.width_m) / 2
+        tnx, tny = -np.sin(traj.theta_t_rad), np.cos(traj.theta_t_rad)
+        pts["trailer_left"] = (traj.xt_m + ht * tnx, traj.yt_m + ht * tny)
+        pts["trailer_right"] = (traj.xt_m - ht * tnx, traj.yt_m - ht * tny)
+    coords = np.stack([np.stack(p, axis=-1) for p in pts.values()])
+    if coords.shape[1] == 1:
+        coords = np.concatenate([coords, coords], axis=1)
+    lines = shapely.linestrings(coords)
+    return dict(zip(pts, lines, strict=True))
+
+
+def _ring_segments(geom: BaseGeometry) -> tuple[FloatArray, FloatArray]:
+    """Start points and vectors of every boundary segment of a (multi)polygon."""
+    rings = shapely.get_rings(shapely.get_parts(geom))
+    coords = [shapely.get_coordinates(r) for r in rings]
+    a = np.concatenate([c[:-1] for c in coords])
+    b = np.concatenate([c[1:] for c in coords])
+    return a, b - a
+
+
+def swept_widths(
+    envelope: BaseGeometry,
+    run: TrackingRun,
+    width_step_m: float = DEFAULT_WIDTH_STEP_M,
+) -> FloatArray:
+    """Swept width along the centre line, ``(K, 2)`` rows of (station m, width m).
+
+    Each station's normal line is cut with every boundary segment of the envelope; the
+    nearest crossings on either side of the centre-line point bound the piece that contains
+    it (zero when the point lies outside the envelope: an odd number of crossings on one
+    side means inside).
+
+    Examples
+    --------
+    >>> from analysis.tracking import simulate
+    >>> car = Vehicle("car", 2.7, 1.5, 1.8, 0.9, 1.0, 0.6, 0.65, 0.5)
+    >>> run = simulate(car, [(0.0, 0.0), (10.0, 0.0)])
+    >>> env = shapely.box(-4.0, -0.5, 11.0, 1.5)
+    >>> np.round(swept_widths(env, run, width_step_m=5.0), 9).tolist()
+    [[0.0, 2.0], [5.0, 2.0], [10.0, 2.0]]
+    """
+    path = run.path
+    last = float(min(path.length_m, np.max(run.trajectory.s_m)))
+    k = max(2, math.ceil(last / width_step_m - 1e-9) + 1)
+    stations = np.linspace(0.0, last, k)
+    p = path.point_at(stations)
+    h = path.heading_at(stations)
+    nx, ny = -np.sin(h), np.cos(h)
+    a, d = _ring_segments(envelope)
+    wx = a[None, :, 0] - p[:, None, 0]
+    wy = a[None, :, 1] - p[:, None, 1]
+    denom = nx[:, None] * d[None, :, 1] - ny[:, None] * d[None, :, 0]
+    ok = np.abs(denom) > 1e-12
+    denom = np.where(ok, denom, 1.0)
+    t = (wx * d[None, :, 1] - wy * d[None, :, 0]) / denom
+    u = (wx * ny[:, None] - wy * nx[:, None]) / denom
+    ok &= (u >= 0.0) & (u < 1.0)
+    pos = ok & (t > 0)
+    neg = ok & (t <= 0)
+    t_pos = np.min(np.where(pos, t, np.inf), axis=1)
+    t_neg = np.max(np.where(neg, t, -np.inf), axis=1)
+    inside = (np.count_nonzero(pos, axis=1) % 2 == 1) & np.isfinite(t_pos) & np.isfinite(t_neg)
+    widths = np.where(inside, t_pos - t_neg, 0.0)
+    return np.stack([stations, widths], axis=1)
+
+
+def swept_path(
+    run: TrackingRun,
+    tolerance_m: float = DEFAULT_TOLERANCE_M,
+    width_step_m: float = DEFAULT_WIDTH_STEP_M,
+) -> SweptPath:
+    """Envelope, wheel tracks, offtracking and swept width of one run.
+
+    Parameters
+    ----------
+    run
+        A run from :func:`analysis.tracking.simulate_batch`.
+    tolerance_m
+        Largest gap between the true swept area and the envelope polygon (m).
+    width_step_m
+        Distance between the stations where the swept width is measured (m).
+
+    Examples
+    --------
+    Straight ahead: the envelope is the body stretched by the distance driven, the swept
+    width is the body width and nothing offtracks.
+
+    >>> from analysis.tracking import simulate
+    >>> car = Vehicle("car", 2.7, 1.5, 1.8, 0.9, 1.0, 0.6, 0.65, 0.5)
+    >>> sp = swept_path(simulate(car, [(0.0, 0.0), (10.0, 0.0)]))
+    >>> round(sp.envelope.area, 6), round(sp.max_swept_width_m, 9)
+    (26.28, 1.8)
+    >>> round(sp.max_offtracking_m, 12)
+    0.0
+    """
+    v, tr = run.vehicle, run.trajectory
+    wb = v.wheelbase_m
+    tractor = sweep(tr.x_m, tr.y_m, tr.theta_rad, wb + v.front_overhang_m, v.rear_overhang_m,
+                    v.width_m, tolerance_m)
+    trailer_area = None
+    theta0 = float(tr.theta_rad[0])
+    off = _offtracking(tr.xf_m, tr.yf_m, tr.x_m, tr.y_m, theta0)
+    i_off = int(np.argmax(off))
+    off_t = None
+    if v.trailer is not None and tr.theta_t_rad is not None:
+        t = v.trailer
+        trailer_area = sweep(tr.xt_m, tr.yt_m, tr.theta_t_rad, t.wheelbase_m + t.front_overhang_m,
+                             t.rear_overhang_m, t.width_m, tolerance_m)
+        envelope = shapely.union(tractor, trailer_area)
+        off_t = _offtracking(tr.xf_m, tr.yf_m, tr.xt_m, tr.yt_m, theta0)
+    else:
+        envelope = tractor
+    widths = swept_widths(envelope, run, width_step_m)
+    i_w = int(np.argmax(widths[:, 1]))
+    return SweptPath(
+        envelope=envelope,
+        tractor=tractor,
+        trailer=trailer_area,
+        wheel_tracks=wheel_tracks(v, tr),
+        offtracking_m=off,
+        max_offtracking_m=float(off[i_off]),
+        max_offtracking_station_m=float(tr.s_m[i_off]),
+        trailer_offtracking_m=off_t,
+        max_trailer_offtracking_m=None if off_t is None else float(off_t.max()),
+        swept_width_m=widths,
+        max_swept_width_m=float(widths[i_w, 1]),
+        max_swept_width_station_m=float(widths[i_w, 0]),
+    )

@@ -1,0 +1,519 @@
+"""Path following: the front-axle centre drives a centre line within the steering limits.
+
+Controller
+----------
+A Stanley-type law on the front-axle centre (the steering point)::
+
+    phi_cmd = wrap(theta_path - theta) - atan(k e / (v_f + v_soft))
+
+``theta_path`` is the centre line's smooth tangent at the front axle's projection, ``e`` the
+front axle's signed lateral offset (left positive), ``v_f`` its speed and ``k`` the gain
+(1/s). The first term is the path's curvature feed-forward: on a circle of radius ``R``
+followed exactly it equals ``atan(l / sqrt(R^2 - l^2))``, the steady-state steering angle,
+and it grows while the path turns ahead of the body; the second term steers the front wheels
+toward the line so that ``e' = -v_f sin(atan(k e / v_f)) ~ -k e``. The command then passes the
+steering-rate limit and the lock (:func:`analysis.kinematics.limit_steering`) and is held
+over the step, which is integrated exactly (:func:`analysis.kinematics.arc_step`); a trailer
+follows by RK4 (:func:`analysis.trailer.advance_articulation`).
+
+Runs, speed and ending
+----------------------
+The vehicle starts with its front axle on the path's first point, heading along the path,
+steering straight, trailer in line. The speed profile gives the front axle's speed; the rear
+axle moves at ``v_f cos(phi)``. A run ends when the front axle's projection reaches the end
+of the path (the last step is shortened to land on it), when the lateral error exceeds
+``abort_factor * tolerance_m`` (no point driving on), when the trailer's articulation exceeds
+its maximum (jackknife), or after ``max_steps`` steps, bounded by the path length in every
+case.
+
+Verdict of the tracking: a run is *followed* when it reached the end, its largest lateral
+error stayed within ``tolerance_m`` and no jackknife occurred; otherwise the curve is
+``cannot-turn`` for that vehicle and ``reason`` says why.
+
+Rear-steered vehicles are refused with an :class:`~vehicles.errors.InputError`: the
+controller and the trailer equation assume the reference (rear) axle is unsteered.
+
+Batches
+-------
+:func:`simulate_batch` advances many (vehicle, path) runs together, one numpy operation per
+quantity and step, and returns one :class:`TrackingRun` per pair.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from analysis.kinematics import (
+    CRAWL_SPEED_M_S,
+    SpeedProfile,
+    arc_step,
+    as_speed_profile,
+    limit_steering,
+)
+from analysis.polyline import DEFAULT_SPACING_M, Path, prepare_path, project_window
+from analysis.trailer import advance_articulation, trailer_axle_point
+from vehicles.errors import InputError
+from vehicles.vehicle import Vehicle
+
+FloatArray = NDArray[np.float64]
+
+SOFT_SPEED_M_S = 0.1
+"""Softening speed of the Stanley cross-track term (avoids dividing by a vanishing speed)."""
+
+MAX_COMMAND_RAD = math.radians(89.0)
+"""Commands are clipped here before the limits (a heading error near 180 degrees)."""
+
+
+@dataclass(frozen=True)
+class TrackingSettings:
+    """How a run is driven and judged.
+
+    Attributes
+    ----------
+    dt_s
+        Time step (s).
+    speed
+        Front-axle speed: a constant (m/s) or a :class:`~analysis.kinematics.SpeedProfile`.
+    tolerance_m
+        Largest lateral offset of the front-axle centre from the centre line that still
+        counts as following it (beyond it: ``cannot-turn``).
+    gain_1_s
+        Stanley cross-track gain ``k`` (1/s).
+    abort_factor
+        A run stops once the lateral offset exceeds ``abort_factor * tolerance_m``.
+    spacing_m
+        Resampling step of the centre lines (m).
+    trailer_substeps
+        RK4 sub-steps of the articulation per time step.
+    max_steps
+        Hard cap on the number of steps; ``None`` derives one from the longest path and the
+        lowest speed (three times the steps the path needs, plus 50).
+
+    Examples
+    --------
+    >>> TrackingSettings().tolerance_m
+    0.5
+    >>> TrackingSettings(dt_s=0.1, speed=1.0).profile.speed_m_s
+    (1.0,)
+    """
+
+    dt_s: float = 0.05
+    speed: float | SpeedProfile = CRAWL_SPEED_M_S
+    tolerance_m: float = 0.5
+    gain_1_s: float = 2.5
+    abort_factor: float = 4.0
+    spacing_m: float = DEFAULT_SPACING_M
+    trailer_substeps: int = 1
+    max_steps: int | None = None
+    profile: SpeedProfile = field(init=False, repr=False, compare=False)
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "profile", as_speed_profile(self.speed))
+        for name in ("dt_s", "tolerance_m", "gain_1_s", "spacing_m"):
+            value = getattr(self, name)
+            if not (isinstance(value, int | float) and math.isfinite(value) and value > 0):
+                raise InputError(f"tracking settings: {name} must be a positive number, "
+                                 f"got {value!r}")
+        if not self.abort_factor >= 1:
+            raise InputError(f"tracking settings: abort_factor must be >= 1, "
+                             f"got {self.abort_factor!r}")
+        if self.trailer_substeps < 1:
+            raise InputError(f"tracking settings: trailer_substeps must be >= 1, "
+                             f"got {self.trailer_substeps!r}")
+        if self.max_steps is not None and self.max_steps < 1:
+            raise InputError(f"tracking settings: max_steps must be >= 1, got {self.max_steps!r}")
+
+
+@dataclass(frozen=True)
+class Trajectory:
+    """Sampled states of one run; every array has one entry per sample.
+
+    Sample ``k`` is the state at time ``t_s[k]``; ``phi_rad[k]`` is the steering held from
+    ``t_s[k]`` to ``t_s[k + 1]`` (the last one repeats). Trailer arrays are ``None`` for a
+    vehicle without a trailer.
+
+    Attributes
+    ----------
+    t_s
+        Time from the start (s).
+    s_m
+        Station of the front axle's projection on the centre line (m).
+    x_m, y_m, theta_rad
+        Rear-axle centre and body heading.
+    phi_rad
+        Bicycle-equivalent steering angle (left positive).
+    xf_m, yf_m
+        Front-axle centre (the steering point).
+    error_m
+        Signed lateral offset of the front-axle centre from the centre line (left positive).
+    speed_m_s
+        Front-axle speed.
+    xt_m, yt_m, theta_t_rad, psi_rad
+        Trailer axle centre, trailer heading and articulation ``theta - theta_t``.
+    """
+
+    t_s: FloatArray
+    s_m: FloatArray
+    x_m: FloatArray
+    y_m: FloatArray
+    theta_rad: FloatArray
+    phi_rad: FloatArray
+    xf_m: FloatArray
+    yf_m: FloatArray
+    error_m: FloatArray
+    speed_m_s: FloatArray
+    xt_m: FloatArray | None = None
+    yt_m: FloatArray | None = None
+    theta_t_rad: FloatArray | None = None
+    psi_rad: FloatArray | None = None
+
+    def __len__(self) -> int:
+        return len(self.t_s)
+
+
+@dataclass(frozen=True)
+class TrackingRun:
+    """One vehicle driven along one centre line.
+
+    Attributes
+    ----------
+    vehicle, path
+        What was driven where.
+    trajectory
+        The sampled states.
+    settings
+        The settings of the run.
+    reached_end
+        The front axle reached the end of the path.
+    max_error_m
+        Largest absolute lateral offset of the front-axle centre (m).
+    jackknife_time_s
+        When the articulation first exceeded the trailer's maximum, else ``None``.
+    steps_at_lock, steps_rate_limited
+        Steps where the lock, or the steering rate, cut the command.
+    reason
+        Why the path could not be followed; empty when it was.
+    """
+
+    vehicle: Vehicle
+    path: Path
+    trajectory: Trajectory
+    settings: TrackingSettings
+    reached_end: bool
+    max_error_m: float
+    jackknife_time_s: float | None
+    steps_at_lock: int
+    steps_rate_limited: int
+    reason: str
+
+    @property
+    def followed(self) -> bool:
+        """The front axle followed the whole centre line within the tolerance."""
+        return not self.reason
+
+    @property
+    def cannot_turn(self) -> bool:
+        """The verdict ``cannot-turn`` applies (the opposite of :attr:`followed`)."""
+        return bool(self.reason)
+
+
+def check_vehicle(vehicle: Vehicle) -> None:
+    """Refuse vehicles the tracking model cannot drive, naming the vehicle and the field.
+
+    Examples
+    --------
+    >>> v = Vehicle("car", 2.7, 1.5, 1.8, 0.9, 1.0, 0.6, 0.65, 0.5)
+    >>> check_vehicle(v) is None
+    True
+    """
+    name = f"vehicle {vehicle.name!r}"
+    if vehicle.steered_axle != "front":
+        raise InputError(
+            f"{name}: steered_axle {vehicle.steered_axle!r} is not supported by the path "
+            "tracker; it models a steered front axle with an unsteered rear reference axle"
+        )
+    checks = [
+        ("wheelbase_m", vehicle.wheelbase_m, lambda v: v > 0),
+        ("track_m", vehicle.track_m, lambda v: v >= 0),
+        ("width_m", vehicle.width_m, lambda v: v > 0),
+        ("front_overhang_m", vehicle.front_overhang_m, lambda v: v >= 0),
+        ("rear_overhang_m", vehicle.rear_overhang_m, lambda v: v >= 0),
+        ("max_steer_rad", vehicle.max_steer_rad, lambda v: 0 < v < math.pi / 2),
+        ("max_steer_rate_rad_s", vehicle.max_steer_rate_rad_s, lambda v: v > 0),
+    ]
+    t = vehicle.trailer
+    if t is not None:
+        checks += [
+            ("trailer.hitch_offset_m", t.hitch_offset_m, math.isfinite),
+            ("trailer.wheelbase_m", t.wheelbase_m, lambda v: v > 0),
+            ("trailer.width_m", t.width_m, lambda v: v > 0),
+            ("trailer.front_overhang_m", t.front_overhang_m, lambda v: v >= 0),
+            ("trailer.rear_overhang_m", t.rear_overhang_m, lambda v: v >= 0),
+            ("trailer.max_articulation_rad", t.max_articulation_rad,
+             lambda v: 0 < v <= math.pi),
+        ]
+    for field_name, value, ok in checks:
+        if not isinstance(value, int | float) or math.isnan(value) or not ok(value):
+            raise InputError(f"{name}: {field_name} = {value!r} is out of range")
+
+
+def _as_path(path: Path | ArrayLike, spacing_m: float, index: int) -> Path:
+    if isinstance(path, Path):
+        return path
+    return prepare_path(path, spacing_m=spacing_m, name=f"path {index}")
+
+
+def simulate_batch(
+    vehicles: Sequence[Vehicle],
+    paths: Sequence[Path | ArrayLike],
+    settings: TrackingSettings | None = None,
+) -> list[TrackingRun]:
+    """Drive ``vehicles[i]`` along ``paths[i]`` for every ``i``, all runs in one loop.
+
+    Parameters
+    ----------
+    vehicles
+        The vehicles; a single vehicle is paired with every path.
+    paths
+        Centre lines, as :class:`~analysis.polyline.Path` or ``(N, 2)``/``(N, 3)`` arrays in
+        metres; a single path is paired with every vehicle.
+    settings
+        Time step, speed, tolerance and controller gain (defaults: 0.05 s, 2 m/s, 0.5 m).
+
+    Returns
+    -------
+    list of TrackingRun
+        One per (vehicle, path) pair, in order.
+
+    Examples
+    --------
+    Straight ahead: no steering, no error, the front axle ends on the last point.
+
+    >>> car = Vehicle("car", 2.7, 1.5, 1.8, 0.9, 1.0, 0.6, 0.65, 0.5)
+    >>> run = simulate_batch([car], [[(0.0, 0.0), (20.0, 0.0)]])[0]
+    >>> run.followed, round(float(abs(run.trajectory.phi_rad).max()), 12)
+    (True, 0.0)
+    >>> round(run.max_error_m, 12)
+    0.0
+    >>> round(float(run.trajectory.xf_m[-1]), 9), round(float(run.trajectory.t_s[-1]), 9)
+    (20.0, 10.0)
+    """
+    settings = settings or TrackingSettings()
+    vehicles = list(vehicles)
+    paths = list(paths)
+    if not vehicles or not paths:
+        return []
+    if len(vehicles) == 1 and len(paths) > 1:
+        vehicles = vehicles * len(paths)
+    if len(paths) == 1 and len(vehicles) > 1:
+        paths = paths * len(vehicles)
+    if len(vehicles) != len(paths):
+        raise InputError(
+            f"simulate_batch: {len(vehicles)} vehicles and {len(paths)} paths cannot be paired"
+        )
+    for v in vehicles:
+        check_vehicle(v)
+    prepared = [_as_path(p, settings.spacing_m, i) for i, p in enumerate(paths)]
+    return _run(vehicles, prepared, settings)
+
+
+def simulate_grid(
+    vehicles: Sequence[Vehicle],
+    paths: Sequence[Path | ArrayLike],
+    settings: TrackingSettings | None = None,
+) -> list[list[TrackingRun]]:
+    """Drive every vehicle along every path in one batch; ``result[i][j]`` is vehicle i, path j.
+
+    Examples
+    --------
+    >>> car = Vehicle("car", 2.7, 1.5, 1.8, 0.9, 1.0, 0.6, 0.65, 0.5)
+    >>> grid = simulate_grid([car, car], [[(0, 0), (5, 0)], [(0, 0), (0, 5)]])
+    >>> [[r.reached_end for r in row] for row in grid]
+    [[True, True], [True, True]]
+    """
+    settings = settings or TrackingSettings()
+    vehicles = list(vehicles)
+    prepared = [_as_path(p, settings.spacing_m, i) for i, p in enumerate(paths)]
+    if not vehicles or not prepared:
+        return [[] for _ in vehicles]
+    flat = simulate_batch(
+        [v for v in vehicles for _ in prepared], [p for _ in vehicles for p in prepared], settings
+    )
+    n = len(prepared)
+    return [flat[i * n:(i + 1) * n] for i in range(len(vehicles))]
+
+
+def simulate(
+    vehicle: Vehicle, path: Path | ArrayLike, settings: TrackingSettings | None = None
+) -> TrackingRun:
+    """Drive one vehicle along one centre line (see :func:`simulate_batch`).
+
+    Examples
+    --------
+    >>> car = Vehicle("car", 2.7, 1.5, 1.8, 0.9, 1.0, 0.6, 0.65, 0.5)
+    >>> simulate(car, [(0, 0), (0, 0)])
+    Traceback (most recent call last):
+    ...
+    vehicles.errors.InputError: path 0: centre line needs at least two distinct points
+    """
+    return simulate_batch([vehicle], [path], settings)[0]
+
+
+def _pad(paths: list[Path]) -> tuple[FloatArray, FloatArray, FloatArray, NDArray[np.intp]]:
+    n_pts = np.array([len(p.xy) for p in paths], dtype=np.intp)
+    m = int(n_pts.max())
+    xy = np.empty((len(paths), m, 2))
+    station = np.empty((len(paths), m))
+    heading = np.empty((len(paths), m))
+    for i, p in enumerate(paths):
+        k = n_pts[i]
+        xy[i, :k], xy[i, k:] = p.xy, p.xy[-1]
+        station[i, :k], station[i, k:] = p.station_m, p.station_m[-1] + np.arange(1, m - k + 1)
+        heading[i, :k], heading[i, k:] = p.heading_rad, p.heading_rad[-1]
+    return xy, station, heading, n_pts
+
+
+def _run(vehicles: list[Vehicle], paths: list[Path], st: TrackingSettings) -> list[TrackingRun]:
+    n = len(vehicles)
+    rows = np.arange(n)
+    wb = np.array([v.wheelbase_m for v in vehicles])
+    lock = np.array([v.max_steer_rad for v in vehicles])
+    rate = np.array([v.max_steer_rate_rad_s for v in vehicles])
+    has_tr = np.array([v.trailer is not None for v in vehicles])
+    e = np.array([v.trailer.hitch_offset_m if v.trailer else 0.0 for v in vehicles])
+    lt = np.array([v.trailer.wheelbase_m if v.trailer else 1.0 for v in vehicles])
+    psi_max = np.array([v.trailer.max_articulation_rad if v.trailer else np.inf
+                        for v in vehicles])
+    xy, station, heading, n_pts = _pad(paths)
+    length = np.array([p.length_m for p in paths])
+    spacing = np.array([p.spacing_m for p in paths])
+    profile, dt = st.profile, st.dt_s
+    window = math.ceil(profile.max_speed_m_s * dt / float(spacing.min())) + 2
+    if st.max_steps is not None:
+        max_steps = st.max_steps
+    else:
+        max_steps = 3 * math.ceil(float(length.max()) / (profile.min_speed_m_s * dt)) + 50
+    abort_m = st.abort_factor * st.tolerance_m
+
+    th = heading[:, 0].copy()
+    x = xy[:, 0, 0] - wb * np.cos(th)
+    y = xy[:, 0, 1] - wb * np.sin(th)
+    phi = np.zeros(n)
+    psi = np.zeros(n)
+    t = np.zeros(n)
+    seg = np.zeros(n, dtype=np.intp)
+    done = np.zeros(n, dtype=bool)
+    finishing = np.zeros(n, dtype=bool)
+    reached = np.zeros(n, dtype=bool)
+    aborted = np.zeros(n, dtype=bool)
+    jack_t = np.full(n, np.nan)
+    at_lock = np.zeros(n, dtype=np.intp)
+    rate_limited = np.zeros(n, dtype=np.intp)
+    count = np.zeros(n, dtype=np.intp)
+
+    rec = np.full((9, max_steps + 1, n), np.nan)  # t s x y th phi err v psi
+    for k in range(max_steps + 1):
+        live = ~done
+        xf = x + wb * np.cos(th)
+        yf = y + wb * np.sin(th)
+        seg, along, err = project_window(xf, yf, xy, n_pts, seg, window)
+        s_f = station[rows, seg] + along
+        v_f = profile.speed(s_f, t)
+        seg_len = station[rows, seg + 1] - station[rows, seg]
+        frac = np.clip(along / seg_len, 0.0, 1.0)
+        th_path = heading[rows, seg] + frac * (heading[rows, seg + 1] - heading[rows, seg])
+        heading_err = np.angle(np.exp(1j * (th_path - th)))
+        cmd = heading_err - np.arctan(st.gain_1_s * err / (v_f + SOFT_SPEED_M_S))
+        cmd = np.clip(cmd, -MAX_COMMAND_RAD, MAX_COMMAND_RAD)
+        new_phi = limit_steering(phi, cmd, lock, rate, dt)
+
+        rec[:, k, live] = np.stack([t, s_f, x, y, th, new_phi, err, v_f, psi])[:, live]
+        count[live] += 1
+        at_end = live & (finishing | (s_f >= length - 1e-9))
+        reached |= at_end
+        bad = live & ~at_end & (np.abs(err) > abort_m)
+        aborted |= bad
+        done |= at_end | bad
+        if k == max_steps or done.all():
+            break
+        live = ~done
+        free = limit_steering(phi, cmd, np.inf, rate, dt)
+        at_lock += live & (np.abs(free) > lock)
+        rate_limited += live & (np.abs(cmd - phi) > rate * dt)
+        phi = np.where(live, new_phi, phi)
+        remaining = length - s_f
+        step_dt = np.where(remaining < v_f * dt, np.maximum(remaining, 0.0) / v_f, dt)
+        finishing |= live & (remaining < v_f * dt)
+        ds_r = np.where(live, v_f * np.cos(phi) * step_dt, 0.0)
+        x, y, th = arc_step(x, y, th, 1.0, phi, wb, ds_r)
+        if has_tr.any():
+            new_psi = advance_articulation(psi, np.tan(phi) / wb, ds_r, e, lt,
+                                           st.trailer_substeps)
+            psi = np.where(has_tr, new_psi, 0.0)
+            jack = live & np.isnan(jack_t) & (np.abs(psi) > psi_max)
+            jack_t[jack] = t[jack] + step_dt[jack]
+        t = t + np.where(live, step_dt, 0.0)
+        # a jackknife ends the run after recording the offending state
+        finishing |= live & ~np.isnan(jack_t)
+
+    runs = []
+    for i in range(n):
+        runs.append(_collect(vehicles[i], paths[i], st, rec[:, :count[i], i], bool(reached[i]),
+                             bool(aborted[i]), float(jack_t[i]), int(at_lock[i]),
+                             int(rate_limited[i]), abort_m))
+    return runs
+
+
+def _collect(
+    vehicle: Vehicle,
+    path: Path,
+    st: TrackingSettings,
+    rec: FloatArray,
+    reached: bool,
+    aborted: bool,
+    jack_t: float,
+    at_lock: int,
+    rate_limited: int,
+    abort_m: float,
+) -> TrackingRun:
+    t, s, x, y, th, phi, err, v, psi = (np.ascontiguousarray(r) for r in rec)
+    wb = vehicle.wheelbase_m
+    trailer = vehicle.trailer
+    extra = {}
+    jackknifed = not math.isnan(jack_t)
+    if jackknifed:
+        reached = False  # the run was stopped at the jackknife, not at the path's end
+    if trailer is not None:
+        theta_t = th - psi
+        xt, yt = trailer_axle_point(x, y, th, theta_t, trailer.hitch_offset_m,
+                                    trailer.wheelbase_m)
+        extra = dict(xt_m=xt, yt_m=yt, theta_t_rad=theta_t, psi_rad=psi)
+    traj = Trajectory(t, s, x, y, th, phi, x + wb * np.cos(th), y + wb * np.sin(th), err, v,
+                      **extra)
+    max_err = float(np.max(np.abs(err))) if len(err) else 0.0
+    reasons = []
+    if max_err > st.tolerance_m:
+        worst = int(np.argmax(np.abs(err)))
+        reasons.append(
+            f"the front axle left the centre line by {max_err:.2f} m (tolerance "
+            f"{st.tolerance_m:.2f} m) at station {s[worst]:.1f} m"
+            + (f"; run stopped beyond {abort_m:.2f} m" if aborted else "")
+        )
+    if jackknifed:
+        reasons.append(
+            f"the articulation exceeded the trailer's maximum "
+            f"{math.degrees(trailer.max_articulation_rad):.0f} deg at t = {jack_t:.2f} s"
+        )
+    if not reached and not aborted and not jackknifed:
+        reasons.append(f"the front axle did not reach the end of the path in {len(t)} samples")
+    if reasons and (at_lock or rate_limited):
+        reasons.append(f"steering at lock in {at_lock} steps, rate-limited in "
+                       f"{rate_limited} steps")
+    return TrackingRun(vehicle, path, traj, st, reached, max_err,
+                       None if not jackknifed else jack_t, at_lock, rate_limited,
+                       "; ".join(reasons))
