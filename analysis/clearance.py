@@ -1,0 +1,311 @@
+"""Clearance of a swept envelope against the three nested areas, and the run's verdict.
+
+Verdicts (DESIGN.md section 6), worst first:
+
+``cannot-turn``
+    The steering point could not follow the centre line within the tolerance (the curve is
+    tighter than the lock or the steering rate allows), or the trailer jackknifed.
+``fails``
+    The (offset) envelope leaves the paved area.
+``encroaches``
+    It leaves its own lanes but stays paved.
+``clear``
+    It stays within its own lanes.
+
+Margins are signed distances between the envelope (grown by the clearance offset) and an
+area: ``>= 0`` is the smallest gap between the envelope and the area's boundary when the
+envelope lies inside the area; ``< 0`` is minus how far the envelope reaches beyond it (the
+largest distance from the area of any point of the envelope outside it, evaluated on that
+outside part's boundary densified every ``densify_m``, so within ``densify_m / 2``).
+``margin_m`` is the margin to the own lanes, the one that decides between ``clear`` and
+``encroaches``.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+
+import numpy as np
+import shapely
+from shapely.geometry.base import BaseGeometry
+
+from analysis.envelope import (
+    DEFAULT_TOLERANCE_M,
+    DEFAULT_WIDTH_STEP_M,
+    SweptPath,
+    swept_path,
+)
+from analysis.tracking import TrackingRun
+from vehicles.errors import InputError
+
+VERDICTS = ("cannot-turn", "fails", "encroaches", "clear")
+"""Verdicts, worst first."""
+
+DEFAULT_DENSIFY_M = 0.05
+"""Spacing of the points where an overreach is measured (m)."""
+
+
+def _check_area(name: str, geom: BaseGeometry | None, required: bool) -> None:
+    if geom is None:
+        if required:
+            raise InputError(f"clearance areas: {name} is missing")
+        return
+    if not isinstance(geom, BaseGeometry) or geom.geom_type not in ("Polygon", "MultiPolygon"):
+        kind = getattr(geom, "geom_type", type(geom).__name__)
+        raise InputError(f"clearance areas: {name} must be a Polygon or MultiPolygon, got {kind}")
+    if geom.is_empty:
+        raise InputError(f"clearance areas: {name} is empty")
+    if not geom.is_valid:
+        raise InputError(f"clearance areas: {name} is not a valid polygon: "
+                         f"{shapely.is_valid_reason(geom)}")
+
+
+@dataclass(frozen=True)
+class Areas:
+    """The nested areas a curve's verdict is measured against (shapely, metres).
+
+    Attributes
+    ----------
+    own_lanes
+        The curve's own lanes.
+    paved
+        All lanes plus the junction polygons.
+    roadway
+        The roadway of the same direction (e.g. the roundabout's ring), or ``None``; its
+        margin is reported, it does not change the verdict.
+
+    Examples
+    --------
+    >>> a = Areas(shapely.box(0, 0, 10, 3), shapely.box(0, -3, 10, 6))
+    >>> a.roadway is None
+    True
+    >>> Areas(shapely.box(0, 0, 10, 3), shapely.LineString([(0, 0), (1, 1)]))
+    Traceback (most recent call last):
+    ...
+    vehicles.errors.InputError: clearance areas: paved must be a Polygon or MultiPolygon, ...
+    """
+
+    own_lanes: BaseGeometry
+    paved: BaseGeometry
+    roadway: BaseGeometry | None = None
+    _boundaries: dict[str, BaseGeometry] = field(init=False, repr=False, compare=False)
+
+    def __post_init__(self) -> None:
+        _check_area("own_lanes", self.own_lanes, True)
+        _check_area("paved", self.paved, True)
+        _check_area("roadway", self.roadway, False)
+        bounds = {}
+        for name in ("own_lanes", "paved", "roadway"):
+            geom = getattr(self, name)
+            if geom is not None:
+                shapely.prepare(geom)
+                bounds[name] = shapely.boundary(geom)
+        object.__setattr__(self, "_boundaries", bounds)
+
+    def boundary(self, name: str) -> BaseGeometry:
+        """Boundary (all rings) of the named area."""
+        return self._boundaries[name]
+
+
+def signed_margin_m(
+    envelope: BaseGeometry,
+    area: BaseGeometry,
+    area_boundary: BaseGeometry | None = None,
+    densify_m: float = DEFAULT_DENSIFY_M,
+) -> float:
+    """Signed margin of an envelope in an area (see the module docstring).
+
+    Examples
+    --------
+    A 2 m wide envelope centred in a 3.5 m lane has 0.75 m to spare on each side:
+
+    >>> lane = shapely.box(0.0, 0.0, 50.0, 3.5)
+    >>> signed_margin_m(shapely.box(10.0, 0.75, 20.0, 2.75), lane)
+    0.75
+
+    Shifted 1 m to the left it reaches 0.25 m beyond the lane:
+
+    >>> signed_margin_m(shapely.box(10.0, 1.75, 20.0, 3.75), lane)
+    -0.25
+
+    Exactly on the boundary the margin is zero:
+
+    >>> signed_margin_m(shapely.box(10.0, 1.5, 20.0, 3.5), lane)
+    0.0
+    """
+    if envelope.is_empty:
+        raise InputError("signed_margin_m: the envelope is empty")
+    if shapely.covers(area, envelope):
+        boundary = area_boundary if area_boundary is not None else shapely.boundary(area)
+        return float(shapely.distance(envelope, boundary))
+    outside = shapely.difference(envelope, area)
+    pts = shapely.points(shapely.get_coordinates(shapely.segmentize(outside, densify_m)))
+    return -float(np.max(shapely.distance(pts, area)))
+
+
+@dataclass(frozen=True)
+class Clearance:
+    """Verdict and margins of one envelope.
+
+    Attributes
+    ----------
+    verdict
+        One of :data:`VERDICTS`.
+    margin_m
+        Signed margin to the own lanes (decides clear / encroaches).
+    paved_margin_m
+        Signed margin to the paved area (decides fails).
+    roadway_margin_m
+        Signed margin to the same-direction roadway, or ``None`` when not given.
+    offset_m
+        Clearance offset the envelope was grown by first.
+    reason
+        Why the verdict is what it is, in words.
+    """
+
+    verdict: str
+    margin_m: float
+    paved_margin_m: float
+    roadway_margin_m: float | None
+    offset_m: float
+    reason: str
+
+
+def classify(
+    envelope: BaseGeometry,
+    areas: Areas,
+    offset_m: float = 0.0,
+    cannot_turn_reason: str = "",
+    densify_m: float = DEFAULT_DENSIFY_M,
+) -> Clearance:
+    """Margins and verdict of an envelope against the areas.
+
+    Parameters
+    ----------
+    envelope
+        Swept envelope (Polygon or MultiPolygon, metres).
+    areas
+        Own lanes, paved area and optionally the roadway.
+    offset_m
+        Clearance offset (m, >= 0): the envelope is buffered by it first.
+    cannot_turn_reason
+        Non-empty when the run could not follow the curve: the verdict is then
+        ``cannot-turn`` whatever the margins.
+    densify_m
+        Spacing of the points where an overreach is measured.
+
+    Examples
+    --------
+    >>> areas = Areas(shapely.box(0, 0, 50, 3.5), shapely.box(0, -0.5, 50, 7.0))
+    >>> classify(shapely.box(10, 0.75, 20, 2.75), areas).verdict
+    'clear'
+    >>> c = classify(shapely.box(10, 0.75, 20, 2.75), areas, offset_m=0.3)
+    >>> c.verdict, round(c.margin_m, 9)
+    ('clear', 0.45)
+    >>> classify(shapely.box(10, 2.0, 20, 4.0), areas).verdict
+    'encroaches'
+    >>> classify(shapely.box(10, -1.0, 20, 1.0), areas).verdict
+    'fails'
+    >>> classify(shapely.box(10, 0.75, 20, 2.75), areas, cannot_turn_reason="lock").verdict
+    'cannot-turn'
+    """
+    if not (isinstance(offset_m, int | float) and math.isfinite(offset_m) and offset_m >= 0):
+        raise InputError(f"clearance offset must be a number >= 0 m, got {offset_m!r}")
+    grown = shapely.buffer(envelope, offset_m, quad_segs=8) if offset_m > 0 else envelope
+    own = signed_margin_m(grown, areas.own_lanes, areas.boundary("own_lanes"), densify_m)
+    paved = signed_margin_m(grown, areas.paved, areas.boundary("paved"), densify_m)
+    road = None
+    if areas.roadway is not None:
+        road = signed_margin_m(grown, areas.roadway, areas.boundary("roadway"), densify_m)
+    grown_by = f" (grown by {offset_m:.2f} m)" if offset_m > 0 else ""
+    if cannot_turn_reason:
+        verdict, reason = "cannot-turn", cannot_turn_reason
+    elif paved < 0:
+        verdict = "fails"
+        reason = f"the envelope{grown_by} leaves the paved area by {-paved:.2f} m"
+    elif own < 0:
+        verdict = "encroaches"
+        reason = f"the envelope{grown_by} leaves its own lanes by {-own:.2f} m, stays paved"
+    else:
+        verdict = "clear"
+        reason = f"the envelope{grown_by} stays {own:.2f} m inside its own lanes"
+    return Clearance(verdict, own, paved, road, float(offset_m), reason)
+
+
+@dataclass(frozen=True)
+class RunResult:
+    """A run, its swept path and its clearance.
+
+    Attributes
+    ----------
+    run
+        The tracking run.
+    swept
+        Envelope, wheel tracks, offtracking and swept width.
+    clearance
+        Verdict and margins.
+    """
+
+    run: TrackingRun
+    swept: SweptPath
+    clearance: Clearance
+
+    @property
+    def verdict(self) -> str:
+        """The verdict, one of :data:`VERDICTS`."""
+        return self.clearance.verdict
+
+    @property
+    def margin_m(self) -> float:
+        """Signed margin to the own lanes."""
+        return self.clearance.margin_m
+
+
+def evaluate(
+    run: TrackingRun,
+    areas: Areas,
+    offset_m: float = 0.0,
+    tolerance_m: float = DEFAULT_TOLERANCE_M,
+    width_step_m: float = DEFAULT_WIDTH_STEP_M,
+) -> RunResult:
+    """Swept path, margins and verdict of one run.
+
+    Examples
+    --------
+    >>> from analysis.tracking import simulate
+    >>> from vehicles.vehicle import Vehicle
+    >>> car = Vehicle("car", 2.7, 1.5, 1.8, 0.9, 1.0, 0.6, 0.65, 0.5)
+    >>> run = simulate(car, [(0.0, 1.75), (30.0, 1.75)])
+    >>> areas = Areas(shapely.box(-10, 0, 40, 3.5), shapely.box(-10, -3.5, 40, 7.0))
+    >>> r = evaluate(run, areas, offset_m=0.3)
+    >>> r.verdict, round(r.margin_m, 9)
+    ('clear', 0.55)
+    """
+    swept = swept_path(run, tolerance_m=tolerance_m, width_step_m=width_step_m)
+    return RunResult(run, swept, classify(swept.envelope, areas, offset_m, run.reason))
+
+
+def evaluate_batch(
+    runs: Sequence[TrackingRun],
+    areas: Areas | Sequence[Areas],
+    offset_m: float = 0.0,
+    tolerance_m: float = DEFAULT_TOLERANCE_M,
+    width_step_m: float = DEFAULT_WIDTH_STEP_M,
+) -> list[RunResult]:
+    """:func:`evaluate` for many runs: one :class:`Areas` for all, or one per run.
+
+    Examples
+    --------
+    >>> evaluate_batch([], Areas(shapely.box(0, 0, 1, 1), shapely.box(0, 0, 2, 2)))
+    []
+    """
+    if isinstance(areas, Areas):
+        per_run = [areas] * len(runs)
+    else:
+        per_run = list(areas)
+        if len(per_run) != len(runs):
+            raise InputError(f"evaluate_batch: {len(runs)} runs but {len(per_run)} area sets")
+    return [evaluate(r, a, offset_m, tolerance_m, width_step_m)
+            for r, a in zip(runs, per_run, strict=True)]
