@@ -1,0 +1,461 @@
+"""Curves of a SUMO network: junction turns, roundabouts, ramps and tight bends.
+
+A :class:`Curve` is a path a vehicle drives through one feature (DESIGN.md §6). Its centre
+line runs from ``approach_length_m`` before the feature to as far after it (where the
+network has that much lane), so the longest vehicle is straight before it starts turning.
+
+Kinds and how they are found:
+
+``turn``
+    One per connection through a junction that has internal lanes (approach lane →
+    internal lanes → exit lane), for lanes that admit passenger cars, buses or trucks.
+    Connections at the nodes of a ``<roundabout>`` are left to the ``roundabout`` curves.
+    A network built without internal lanes (``--no-internal-links``) has no junction
+    geometry to check: no turns are extracted and a warning says so.
+``roundabout``
+    From the network's ``<roundabout>`` elements: one per entry edge → exit edge through
+    the ring (the shortest lane path; a U-turn round the ring is included).
+``ramp``
+    A chain of plain edges joined one-to-one (no other way in or out) whose grade exceeds
+    ``ramp_min_grade_pct`` on each edge, that turns more than ``ramp_min_turn_deg`` in all
+    and is tighter than ``bend_max_radius_m`` somewhere: a parking helix, a spiral ramp.
+``bend``
+    A stretch of a plain lane (not part of a ramp) whose radius stays under
+    ``bend_max_radius_m`` while it turns at least ``bend_min_turn_deg``.
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+from collections.abc import Iterable
+from dataclasses import dataclass, field
+
+import numpy as np
+from shapely.geometry.base import BaseGeometry
+
+from networks.geometry import (
+    arc_length,
+    clean_polyline,
+    curvature_profile,
+    grades_pct,
+    radius_from_curvature,
+    unwrap,
+)
+from networks.paths import Path, build_path, junction_of_internal, via_lanes
+from networks.reader import Network
+from vehicles.errors import InputError
+
+log = logging.getLogger(__name__)
+
+KINDS = ("turn", "roundabout", "ramp", "bend")
+
+
+@dataclass(eq=False)
+class Curve:
+    """A path through one feature of a network, with its geometry and areas.
+
+    Attributes
+    ----------
+    curve_id
+        Stable id, e.g. ``turn:J0:E1_0->E3_0``, ``roundabout:R2:in_0->out_0``,
+        ``ramp:H0_0->H3_0``, ``bend:E7_1:0``.
+    kind
+        ``turn``, ``roundabout``, ``ramp`` or ``bend``.
+    junction
+        The junction of the feature (a turn's junction, the ring node entered, the junction
+        a ramp starts from, a bend's edge's start junction).
+    lanes
+        Every lane the centre line runs on, in driving order.
+    core_lanes
+        The lanes of the feature itself (internal lanes of a turn, ring and its internal
+        lanes, ramp edges' lanes, the bent lane).
+    centerline
+        (N, 3) x, y, z in metres (SUMO plane coordinates).
+    core_start_m, core_end_m
+        Where the feature begins and ends along the centre line (plane arc length).
+    profile_s_m, profile_radius_m
+        Radius fitted over arc length at stations every ``step_m`` over the feature and a
+        fitting window either side (``inf`` where straight). ``profile_s_m`` is measured
+        along ``centerline``.
+    min_radius_m
+        Smallest radius over the feature (the CSV's ``min_radius``).
+    turn_angle_deg
+        Signed heading change from the approach to the exit (degrees, left positive,
+        unwrapped: a loop round a roundabout may exceed 180). Use its absolute value for
+        a size.
+    length_m
+        Arc length of the feature, ``core_end_m - core_start_m``.
+    lane_width_m
+        The narrowest lane of the feature.
+    max_grade_pct, max_grade_change_pct
+        Largest grade and largest algebraic change of grade over the feature and 3 m
+        either side (see :func:`networks.geometry.grades_pct`).
+    own_lanes, roadway, paved
+        Shapely areas: the curve's lanes (its centre line buffered by half the lane
+        width), the same-direction roadway, the paved area (see :mod:`networks.areas`).
+        ``None`` when areas were not requested.
+    """
+
+    curve_id: str
+    kind: str
+    junction: str
+    lanes: tuple[str, ...]
+    core_lanes: tuple[str, ...]
+    centerline: np.ndarray
+    core_start_m: float
+    core_end_m: float
+    profile_s_m: np.ndarray
+    profile_radius_m: np.ndarray
+    min_radius_m: float
+    turn_angle_deg: float
+    length_m: float
+    lane_width_m: float
+    max_grade_pct: float
+    max_grade_change_pct: float
+    own_lanes: BaseGeometry | None = field(default=None, repr=False)
+    roadway: BaseGeometry | None = field(default=None, repr=False)
+    paved: BaseGeometry | None = field(default=None, repr=False)
+
+
+@dataclass(frozen=True)
+class CurveOptions:
+    """Parameters of curve extraction (lengths in metres, angles in degrees)."""
+
+    approach_length_m: float = 25.0
+    step_m: float = 0.25
+    window_m: float = 2.0
+    grade_window_m: float = 3.0
+    bend_max_radius_m: float = 50.0
+    bend_min_turn_deg: float = 20.0
+    ramp_min_grade_pct: float = 2.0
+    ramp_min_turn_deg: float = 90.0
+
+
+def make_curve(
+    net: Network, curve_id: str, kind: str, junction: str, path: Path, opts: CurveOptions
+) -> Curve:
+    """Measure a path: radius profile, turn angle, grades and width of its core."""
+    line = path.centerline
+    a, b = path.core_start_m, path.core_end_m
+    s, k = curvature_profile(line, opts.step_m, opts.window_m, a - opts.window_m, b + opts.window_m)
+    radius = radius_from_curvature(k)
+    inside = (s >= a - 1e-9) & (s <= b + 1e-9)
+    min_r = float(radius[inside].min()) if inside.any() else math.inf
+    turn = _turn_deg(line, a, b)
+    g, dg = grades_pct(line, a - opts.grade_window_m, b + opts.grade_window_m, opts.grade_window_m)
+    widths = [net.lanes[x].width_m for x in path.core_lanes] or [
+        net.lanes[x].width_m for x in path.lanes
+    ]
+    return Curve(
+        curve_id=curve_id,
+        kind=kind,
+        junction=junction,
+        lanes=path.lanes,
+        core_lanes=path.core_lanes,
+        centerline=line,
+        core_start_m=a,
+        core_end_m=b,
+        profile_s_m=s,
+        profile_radius_m=radius,
+        min_radius_m=min_r,
+        turn_angle_deg=turn,
+        length_m=b - a,
+        lane_width_m=float(min(widths)),
+        max_grade_pct=g,
+        max_grade_change_pct=dg,
+    )
+
+
+def _turn_deg(line: np.ndarray, a: float, b: float) -> float:
+    """Heading change from the chord that enters the core to the chord that leaves it."""
+    pts = clean_polyline(line)
+    if len(pts) < 3:
+        return 0.0
+    s = arc_length(pts)
+    d = pts[1:, :2] - pts[:-1, :2]
+    h = unwrap(np.arctan2(d[:, 1], d[:, 0]))
+    i = int(np.clip(np.searchsorted(s, a + 1e-6, side="left") - 1, 0, len(h) - 1))
+    j = int(np.clip(np.searchsorted(s, b - 1e-6, side="right") - 1, 0, len(h) - 1))
+    return float(np.degrees(h[j] - h[i]))
+
+
+def _road_lane(net: Network, lane_id: str) -> bool:
+    lane = net.lanes.get(lane_id)
+    return lane is not None and lane.allows_road_vehicles()
+
+
+def find_turns(net: Network, opts: CurveOptions) -> Iterable[Curve]:
+    """Yield one ``turn`` per connection through a junction's internal lanes."""
+    if not net.has_internal_lanes:
+        log.warning(
+            "%s: built without internal lanes (--no-internal-links): junction turns have no "
+            "geometry and are not extracted; rebuild the network with internal links",
+            net.path,
+        )
+        return
+    ring_nodes = {n for r in net.roundabouts for n in r.nodes}
+    for conn in net.connections:
+        if not conn.via or conn.from_edge.startswith(":"):
+            continue
+        from_lane, to_lane = conn.from_lane, conn.to_lane
+        if from_lane not in net.lanes or to_lane not in net.lanes:
+            continue
+        if not (_road_lane(net, from_lane) and _road_lane(net, to_lane)):
+            continue
+        if net.lanes[from_lane].function == "internal":
+            continue
+        vias = via_lanes(net, conn)
+        if not vias:
+            continue
+        junction = junction_of_internal(vias[0])
+        if junction in ring_nodes:
+            continue
+        path = build_path(
+            net, [from_lane], vias, [to_lane], opts.approach_length_m, opts.approach_length_m
+        )
+        cid = f"turn:{junction}:{from_lane}->{to_lane}"
+        yield make_curve(net, cid, "turn", junction, path, opts)
+
+
+def find_roundabouts(net: Network, opts: CurveOptions) -> Iterable[Curve]:
+    """Yield one ``roundabout`` curve per entry edge → exit edge of each ring."""
+    import heapq
+
+    from networks.paths import lane_length
+
+    for rb in net.roundabouts:
+        ring_edges = set(rb.edges)
+        ring_nodes = set(rb.nodes)
+        best: dict[tuple[str, str], tuple[float, list[str], str]] = {}
+        for conn in net.connections:
+            if (
+                conn.to_edge not in ring_edges
+                or conn.from_edge in ring_edges
+                or conn.from_edge.startswith(":")
+                or not _road_lane(net, conn.from_lane)
+                or conn.from_lane not in net.lanes
+            ):
+                continue
+            from_edge = net.edges.get(conn.from_edge)
+            entry_node = from_edge.to_junction if from_edge is not None else ""
+            if entry_node not in ring_nodes:
+                continue
+            # Dijkstra over lanes from the entry lane, through ring lanes only
+            start = [*(via_lanes(net, conn) or []), conn.to_lane]
+            heap = [(sum(lane_length(net, x) for x in start), 0, start)]
+            done: set[str] = set()
+            counter = 1
+            while heap:
+                dist, _, lanes = heapq.heappop(heap)
+                last = lanes[-1]
+                if last in done:
+                    continue
+                done.add(last)
+                for nxt in net.outgoing(last):
+                    if nxt.to_lane not in net.lanes or not _road_lane(net, nxt.to_lane):
+                        continue
+                    step = [*(via_lanes(net, nxt) or []), nxt.to_lane]
+                    if nxt.to_edge in ring_edges:
+                        if len(lanes) < 400:
+                            d = dist + sum(lane_length(net, x) for x in step)
+                            heapq.heappush(heap, (d, counter, lanes + step))
+                            counter += 1
+                        continue
+                    key = (conn.from_edge, nxt.to_edge)
+                    core = lanes + step[:-1]
+                    if key not in best or dist < best[key][0]:
+                        best[key] = (dist, [conn.from_lane, *core, nxt.to_lane], entry_node)
+        for (_, _), (_, lanes, entry_node) in sorted(best.items()):
+            path = build_path(
+                net,
+                [lanes[0]],
+                lanes[1:-1],
+                [lanes[-1]],
+                opts.approach_length_m,
+                opts.approach_length_m,
+            )
+            cid = f"roundabout:{entry_node}:{lanes[0]}->{lanes[-1]}"
+            yield make_curve(net, cid, "roundabout", entry_node, path, opts)
+
+
+def _edge_grade_pct(net: Network, edge_id: str) -> float:
+    edge = net.edges[edge_id]
+    shape = net.lanes[edge.lanes[0]].shape
+    s = arc_length(shape)
+    if s[-1] <= 0:
+        return 0.0
+    return 100.0 * abs(float(shape[-1, 2] - shape[0, 2])) / float(s[-1])
+
+
+def _plain_edges(net: Network) -> list[str]:
+    return [
+        e.id
+        for e in net.edges.values()
+        if e.function in ("normal", "") and e.lanes and any(_road_lane(net, x) for x in e.lanes)
+    ]
+
+
+def find_ramps(net: Network, opts: CurveOptions) -> tuple[list[Curve], set[str]]:
+    """Find ``ramp`` curves; also return the edges they cover (no bends are sought there)."""
+    plain = set(_plain_edges(net))
+    succ: dict[str, set[str]] = {}
+    pred: dict[str, set[str]] = {}
+    for c in net.connections:
+        if c.from_edge in plain and c.to_edge in plain and c.direction != "t":
+            succ.setdefault(c.from_edge, set()).add(c.to_edge)
+            pred.setdefault(c.to_edge, set()).add(c.from_edge)
+    graded = {e for e in plain if _edge_grade_pct(net, e) > opts.ramp_min_grade_pct}
+
+    def link(a: str) -> str | None:
+        nxt = succ.get(a, set())
+        if len(nxt) == 1:
+            b = next(iter(nxt))
+            if b in graded and pred.get(b) == {a}:
+                return b
+        return None
+
+    heads = [e for e in sorted(graded) if not any(link(p) == e for p in pred.get(e, ()))]
+    curves: list[Curve] = []
+    covered: set[str] = set()
+    for head in heads:
+        chain = [head]
+        while (nxt := link(chain[-1])) is not None and nxt not in chain:
+            chain.append(nxt)
+        for lane_id in net.edges[head].lanes:
+            if not _road_lane(net, lane_id):
+                continue
+            lanes = _follow_lanes(net, lane_id, chain)
+            if lanes is None:
+                continue
+            path = build_path(net, [], lanes, [], opts.approach_length_m, opts.approach_length_m)
+            curve = make_curve(
+                net,
+                f"ramp:{lanes[0]}->{lanes[-1]}",
+                "ramp",
+                net.edges[head].from_junction,
+                path,
+                opts,
+            )
+            if (
+                abs(curve.turn_angle_deg) > opts.ramp_min_turn_deg
+                and curve.min_radius_m < opts.bend_max_radius_m
+            ):
+                curves.append(curve)
+                covered.update(chain)
+    return curves, covered
+
+
+def _follow_lanes(net: Network, lane_id: str, chain: list[str]) -> list[str] | None:
+    """Lanes along an edge chain from ``lane_id`` (same index where possible)."""
+    lanes = [lane_id]
+    cur = lane_id
+    for nxt_edge in chain[1:]:
+        conns = [c for c in net.outgoing(cur) if c.to_edge == nxt_edge]
+        if not conns:
+            return None
+        idx = net.lanes[cur].index
+        conn = min(conns, key=lambda c: (abs(c.to_lane_index - idx), c.to_lane_index))
+        lanes.extend([*(via_lanes(net, conn) or []), conn.to_lane])
+        cur = conn.to_lane
+    return lanes
+
+
+def find_bends(net: Network, opts: CurveOptions, skip_edges: set[str]) -> Iterable[Curve]:
+    """Yield ``bend`` curves: tight curved stretches inside plain lanes."""
+    min_turn = math.radians(opts.bend_min_turn_deg)
+    for edge_id in _plain_edges(net):
+        if edge_id in skip_edges:
+            continue
+        for lane_id in net.edges[edge_id].lanes:
+            lane = net.lanes[lane_id]
+            if len(lane.shape) < 3 or not lane.allows_road_vehicles():
+                continue
+            pts = clean_polyline(lane.shape)
+            if len(pts) < 3:
+                continue
+            d = pts[1:, :2] - pts[:-1, :2]
+            turns = np.diff(unwrap(np.arctan2(d[:, 1], d[:, 0])))
+            if np.abs(turns).sum() < min_turn:
+                continue
+            s, k = curvature_profile(pts, opts.step_m, opts.window_m)
+            tight = radius_from_curvature(k) < opts.bend_max_radius_m
+            for n, (i, j) in enumerate(_runs(tight)):
+                turn = float(np.trapezoid(k[i:j], s[i:j])) if j - i > 1 else 0.0
+                if abs(turn) < min_turn:
+                    continue
+                path = build_path(
+                    net,
+                    [],
+                    [lane_id],
+                    [],
+                    opts.approach_length_m,
+                    opts.approach_length_m,
+                    float(s[i]),
+                    float(s[j - 1]),
+                )
+                junction = net.edges[edge_id].from_junction
+                yield make_curve(net, f"bend:{lane_id}:{n}", "bend", junction, path, opts)
+
+
+def _runs(mask: np.ndarray) -> list[tuple[int, int]]:
+    """Half-open index ranges of the runs of True in a boolean array.
+
+    Examples
+    --------
+    >>> _runs(np.array([0, 1, 1, 0, 1], dtype=bool))
+    [(1, 3), (4, 5)]
+    """
+    m = np.concatenate(([False], mask, [False])).astype(np.int8)
+    edges = np.flatnonzero(np.diff(m))
+    return [(int(a), int(b)) for a, b in zip(edges[::2], edges[1::2], strict=True)]
+
+
+def extract_curves(
+    net: Network,
+    kinds: Iterable[str] = KINDS,
+    options: CurveOptions | None = None,
+    areas: bool = True,
+) -> list[Curve]:
+    """Every curve of the requested kinds, sorted by kind then ``curve_id``.
+
+    Parameters
+    ----------
+    net
+        A network from :func:`networks.reader.read_network`.
+    kinds
+        Any of ``turn``, ``roundabout``, ``ramp``, ``bend``.
+    options
+        Extraction parameters (approach length, fitting window, thresholds).
+    areas
+        Also build the three shapely areas of each curve (:mod:`networks.areas`).
+
+    Raises
+    ------
+    InputError
+        An unknown kind.
+    """
+    wanted = list(dict.fromkeys(kinds))
+    bad = [k for k in wanted if k not in KINDS]
+    if bad:
+        raise InputError(f"unknown curve kind(s) {', '.join(bad)}; choose from {', '.join(KINDS)}")
+    opts = options or CurveOptions()
+    curves: list[Curve] = []
+    if "turn" in wanted:
+        curves.extend(find_turns(net, opts))
+    if "roundabout" in wanted:
+        curves.extend(find_roundabouts(net, opts))
+    ramp_edges: set[str] = set()
+    if "ramp" in wanted or "bend" in wanted:
+        ramps, ramp_edges = find_ramps(net, opts)
+        if "ramp" in wanted:
+            curves.extend(ramps)
+    if "bend" in wanted:
+        curves.extend(find_bends(net, opts, ramp_edges))
+    order = {k: i for i, k in enumerate(KINDS)}
+    curves.sort(key=lambda c: (order[c.kind], c.curve_id))
+    if areas:
+        from networks.areas import attach_areas
+
+        attach_areas(net, curves)
+    return curves

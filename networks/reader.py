@@ -1,0 +1,512 @@
+"""A streaming reader of SUMO ``.net.xml`` / ``.net.xml.gz`` geometry.
+
+Only what curve extraction needs is kept: lanes (with 3-D shapes as numpy arrays), edges,
+connections, junction polygons, roundabouts and the location. The parser is lxml's
+``iterparse`` with entity resolution and network access off; elements are cleared as
+soon as they are read, so memory grows with the geometry, not with the XML.
+
+Example
+-------
+>>> net = read_network("networks/samples/intersection/intersection.net.xml")  # doctest: +SKIP
+>>> net.lanes["E0_0"].shape[:2]                                               # doctest: +SKIP
+array([[...]])
+"""
+
+from __future__ import annotations
+
+import logging
+import os
+from collections import defaultdict
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+from lxml import etree
+
+from networks.safe_xml import open_binary, scan_prolog
+from vehicles.errors import InputError
+
+log = logging.getLogger(__name__)
+
+#: SUMO's lane width when a lane has none (``SUMO_const_laneWidth``).
+DEFAULT_LANE_WIDTH_M = 3.2
+
+#: Every SUMO vehicle class (``allow="all"`` means these).
+SUMO_VCLASSES = frozenset(
+    (
+        "private emergency authority army vip pedestrian passenger hov taxi bus coach delivery "
+        "truck trailer motorcycle moped bicycle evehicle tram rail_urban rail rail_electric "
+        "rail_fast ship container cable_car subway aircraft wheelchair scooter drone custom1 "
+        "custom2"
+    ).split()
+)
+
+#: Classes whose lanes carry the vehicles this tool checks.
+ROAD_VCLASSES = frozenset(("passenger", "bus", "truck", "coach", "delivery", "trailer"))
+
+
+@dataclass(slots=True)
+class Lane:
+    """One lane: ``shape`` is an (N, 3) array of x, y, z in metres (z = 0 where absent)."""
+
+    id: str
+    edge: str
+    index: int
+    width_m: float
+    function: str
+    allowed: frozenset[str]
+    shape: np.ndarray
+    length_m: float
+    speed_mps: float
+
+    @property
+    def is_internal(self) -> bool:
+        """True for a junction-internal lane (``function="internal"``)."""
+        return self.function == "internal"
+
+    def allows_road_vehicles(self) -> bool:
+        """True when passenger cars, buses or trucks may use the lane."""
+        return not self.allowed.isdisjoint(ROAD_VCLASSES)
+
+
+@dataclass(slots=True)
+class Edge:
+    """One edge; ``lanes`` lists its lane ids by index (rightmost first)."""
+
+    id: str
+    from_junction: str
+    to_junction: str
+    function: str
+    priority: int
+    lanes: list[str] = field(default_factory=list)
+
+
+@dataclass(slots=True)
+class Connection:
+    """A link from one lane to another, through ``via`` (the first internal lane) if any."""
+
+    from_edge: str
+    to_edge: str
+    from_lane_index: int
+    to_lane_index: int
+    via: str | None
+    direction: str
+
+    @property
+    def from_lane(self) -> str:
+        """Id of the lane the connection leaves."""
+        return f"{self.from_edge}_{self.from_lane_index}"
+
+    @property
+    def to_lane(self) -> str:
+        """Id of the lane the connection enters."""
+        return f"{self.to_edge}_{self.to_lane_index}"
+
+
+@dataclass(slots=True)
+class Junction:
+    """A junction: its position and its polygon (``shape``, (N, 3), may be empty)."""
+
+    id: str
+    type: str
+    x: float
+    y: float
+    z: float
+    shape: np.ndarray
+    inc_lanes: tuple[str, ...]
+    int_lanes: tuple[str, ...]
+
+
+@dataclass(frozen=True, slots=True)
+class Roundabout:
+    """A ``<roundabout>`` element: its ring junctions and ring edges."""
+
+    nodes: tuple[str, ...]
+    edges: tuple[str, ...]
+
+
+@dataclass(frozen=True, slots=True)
+class Location:
+    """The ``<location>`` element: offsets and boundaries in metres."""
+
+    net_offset: tuple[float, float] = (0.0, 0.0)
+    conv_boundary: tuple[float, float, float, float] = (0.0, 0.0, 0.0, 0.0)
+    orig_boundary: tuple[float, float, float, float] = (0.0, 0.0, 0.0, 0.0)
+    proj_parameter: str = "!"
+
+
+@dataclass
+class Network:
+    """The geometry of a SUMO network as read by :func:`read_network`."""
+
+    path: Path
+    lanes: dict[str, Lane]
+    edges: dict[str, Edge]
+    connections: list[Connection]
+    junctions: dict[str, Junction]
+    roundabouts: list[Roundabout]
+    location: Location
+    _out: dict[str, list[Connection]] | None = field(default=None, repr=False)
+    _in: dict[str, list[Connection]] | None = field(default=None, repr=False)
+    _clean: dict[str, tuple[np.ndarray, float]] = field(default_factory=dict, repr=False)
+
+    def lane_line(self, lane_id: str) -> tuple[np.ndarray, float]:
+        """A lane's shape without repeated points, and its plane length (cached)."""
+        hit = self._clean.get(lane_id)
+        if hit is None:
+            pts = self.lanes[lane_id].shape
+            d = pts[1:, :2] - pts[:-1, :2]
+            step = np.hypot(d[:, 0], d[:, 1])
+            if len(step) and step.min() <= 1e-6:
+                pts = pts[np.concatenate(([True], step > 1e-6))]
+            hit = self._clean[lane_id] = (pts, float(step.sum()))
+        return hit
+
+    @property
+    def has_internal_lanes(self) -> bool:
+        """True when the network was built with junction-internal lanes."""
+        return any(c.via for c in self.connections)
+
+    def outgoing(self, lane_id: str) -> list[Connection]:
+        """Connections leaving lane ``lane_id`` (also from internal lanes)."""
+        if self._out is None:
+            self._index()
+        assert self._out is not None
+        return self._out.get(lane_id, [])
+
+    def incoming(self, lane_id: str) -> list[Connection]:
+        """Connections entering lane ``lane_id`` (also into internal lanes)."""
+        if self._in is None:
+            self._index()
+        assert self._in is not None
+        return self._in.get(lane_id, [])
+
+    def _index(self) -> None:
+        out: dict[str, list[Connection]] = defaultdict(list)
+        inc: dict[str, list[Connection]] = defaultdict(list)
+        for c in self.connections:
+            out[c.from_lane].append(c)
+            inc[c.to_lane].append(c)
+        self._out, self._in = dict(out), dict(inc)
+
+
+def read_network(path: str | os.PathLike[str]) -> Network:
+    """Read the geometry of a SUMO network file (plain or gzip-compressed).
+
+    Parameters
+    ----------
+    path
+        A ``.net.xml`` or ``.net.xml.gz`` file.
+
+    Returns
+    -------
+    Network
+
+    Raises
+    ------
+    InputError
+        The file is missing, not XML, truncated, declares entities, is not a SUMO network,
+        or holds no edges.
+    """
+    p = Path(path)
+    root_tag = scan_prolog(p)
+    if root_tag != "net":
+        raise InputError(f"{p}: not a SUMO network (root element <{root_tag}>, expected <net>)")
+    state = _ParseState(p)
+    parser = etree.XMLParser(
+        target=state,
+        resolve_entities=False,
+        no_network=True,
+        load_dtd=False,
+        huge_tree=True,
+        remove_comments=True,
+        remove_pis=True,
+    )
+    try:
+        with open_binary(p) as fh:
+            while chunk := fh.read(_CHUNK_BYTES):
+                parser.feed(chunk)
+        parser.close()
+    except etree.XMLSyntaxError as exc:
+        raise InputError(f"{p}: malformed or truncated XML ({exc})") from exc
+    except (EOFError, OSError) as exc:
+        raise InputError(f"{p}: truncated or corrupt file ({exc})") from exc
+    return state.finish()
+
+
+_CHUNK_BYTES = 1 << 22
+_ALLOW_CACHE: dict[tuple[str | None, str | None], frozenset[str]] = {}
+
+
+def resolve_allowed(allow: str | None, disallow: str | None) -> frozenset[str]:
+    """The vehicle classes a lane admits, from its ``allow`` and ``disallow`` attributes.
+
+    Examples
+    --------
+    >>> sorted(resolve_allowed("bus passenger", None))
+    ['bus', 'passenger']
+    >>> "pedestrian" in resolve_allowed(None, "pedestrian")
+    False
+    >>> resolve_allowed(None, "all")
+    frozenset()
+    """
+    key = (allow, disallow)
+    hit = _ALLOW_CACHE.get(key)
+    if hit is not None:
+        return hit
+    if allow is not None:
+        words = set(allow.split())
+        result = set(SUMO_VCLASSES) if "all" in words else words
+    else:
+        result = set(SUMO_VCLASSES)
+    if disallow is not None:
+        words = set(disallow.split())
+        result = set() if "all" in words else result - words
+    frozen = frozenset(result)
+    _ALLOW_CACHE[key] = frozen
+    return frozen
+
+
+def _floats(text: str | None, n: int, default: tuple[float, ...]) -> tuple[float, ...]:
+    if not text:
+        return default
+    vals = tuple(float(v) for v in text.split(","))
+    return vals if len(vals) == n else default
+
+
+class _ParseState:
+    """Accumulates the elements of one file; shapes are parsed in one batch at the end."""
+
+    def __init__(self, path: Path):
+        self.path = path
+        self.lanes: dict[str, Lane] = {}
+        self.edges: dict[str, Edge] = {}
+        self.connections: list[Connection] = []
+        self.junctions: dict[str, Junction] = {}
+        self.roundabouts: list[Roundabout] = []
+        self.location = Location()
+        self.seen_root = False
+        self.edge: Edge | None = None
+        self.lane_shapes: list[str] = []
+        self.junction_shapes: list[str] = []
+
+    def start(self, tag: str, attrib: dict[str, str]) -> None:
+        """Called by lxml for each start tag (a SAX-style target: no tree is built)."""
+        if not self.seen_root:
+            if tag != "net":
+                raise InputError(f"{self.path}: not a SUMO network (root element <{tag}>)")
+            self.seen_root = True
+            return
+        try:
+            self._start(tag, attrib)
+        except ValueError as exc:
+            ident = attrib.get("id") or " ".join(f"{k}={v!r}" for k, v in attrib.items())[:80]
+            raise InputError(f"{self.path}: bad value in <{tag} {ident}>: {exc}") from exc
+
+    def _start(self, tag: str, attrib: dict[str, str]) -> None:
+        get = attrib.get
+        if tag == "lane":
+            edge = self.edge
+            if edge is None:
+                return
+            lane_id = get("id")
+            if lane_id is None:
+                raise InputError(f"{self.path}: a <lane> of edge {edge.id!r} has no id")
+            width = get("width")
+            self.lane_shapes.append(get("shape") or "")
+            self.lanes[lane_id] = Lane(
+                lane_id,
+                edge.id,
+                int(get("index", "0")),
+                float(width) if width is not None else DEFAULT_LANE_WIDTH_M,
+                edge.function,
+                resolve_allowed(get("allow"), get("disallow")),
+                _EMPTY,
+                float(get("length", "nan")),
+                float(get("speed", "nan")),
+            )
+            edge.lanes.append(lane_id)
+        elif tag == "connection":
+            frm = get("from")
+            to = get("to")
+            if frm is None or to is None:
+                raise InputError(f"{self.path}: a <connection> lacks 'from' or 'to'")
+            self.connections.append(
+                Connection(
+                    frm,
+                    to,
+                    int(get("fromLane", "0")),
+                    int(get("toLane", "0")),
+                    get("via"),
+                    get("dir", ""),
+                )
+            )
+        elif tag == "edge":
+            edge_id = get("id")
+            if edge_id is None:
+                raise InputError(f"{self.path}: an <edge> has no id")
+            self.edge = self.edges[edge_id] = Edge(
+                edge_id,
+                get("from", ""),
+                get("to", ""),
+                get("function", "normal"),
+                int(get("priority", "-1")),
+                [],
+            )
+        elif tag == "junction":
+            jid = get("id")
+            if jid is None:
+                raise InputError(f"{self.path}: a <junction> has no id")
+            self.junction_shapes.append(get("shape") or "")
+            self.junctions[jid] = Junction(
+                jid,
+                get("type", ""),
+                float(get("x", "0")),
+                float(get("y", "0")),
+                float(get("z", "0")),
+                _EMPTY,
+                tuple((get("incLanes") or "").split()),
+                tuple((get("intLanes") or "").split()),
+            )
+        elif tag == "roundabout":
+            self.roundabouts.append(
+                Roundabout(
+                    nodes=tuple((get("nodes") or "").split()),
+                    edges=tuple((get("edges") or "").split()),
+                )
+            )
+        elif tag == "location":
+            off = _floats(get("netOffset"), 2, (0.0, 0.0))
+            self.location = Location(
+                net_offset=(off[0], off[1]),
+                conv_boundary=_floats(get("convBoundary"), 4, (0.0,) * 4),  # type: ignore[arg-type]
+                orig_boundary=_floats(get("origBoundary"), 4, (0.0,) * 4),  # type: ignore[arg-type]
+                proj_parameter=get("projParameter", "!"),
+            )
+
+    def close(self) -> None:
+        """Called by lxml at the end of the document."""
+
+    def finish(self) -> Network:
+        if not self.seen_root and not self.edges:
+            raise InputError(f"{self.path}: not a SUMO network (no <edge> elements)")
+        if not self.edges:
+            raise InputError(f"{self.path}: the network is empty (no <edge> elements)")
+        lane_shapes = parse_shapes(self.lane_shapes, list(self.lanes), f"{self.path}: lane")
+        for lane, shape in zip(self.lanes.values(), lane_shapes, strict=True):
+            if len(shape) < 2:
+                raise InputError(f"{self.path}: lane {lane.id!r}: shape has fewer than 2 points")
+            lane.shape = shape
+        for junction, shape in zip(
+            self.junctions.values(),
+            parse_shapes(self.junction_shapes, list(self.junctions), f"{self.path}: junction"),
+            strict=True,
+        ):
+            junction.shape = shape
+        return Network(
+            path=self.path,
+            lanes=self.lanes,
+            edges=self.edges,
+            connections=self.connections,
+            junctions=self.junctions,
+            roundabouts=self.roundabouts,
+            location=self.location,
+        )
+
+
+_EMPTY = np.zeros((0, 3))
+_EMPTY.flags.writeable = False
+
+
+def parse_shape(text: str) -> np.ndarray:
+    """Parse one SUMO shape string (points ``x,y`` or ``x,y,z``) into an (N, 3) array.
+
+    Examples
+    --------
+    >>> parse_shape("0,0 3,4,1.5")
+    array([[0. , 0. , 0. ],
+           [3. , 4. , 1.5]])
+    >>> parse_shape("").shape
+    (0, 3)
+    """
+    pts = text.split()
+    out = np.zeros((len(pts), 3))
+    for i, pt in enumerate(pts):
+        vals = pt.split(",")
+        if len(vals) not in (2, 3):
+            raise ValueError(f"point {pt!r} is not x,y or x,y,z")
+        out[i, : len(vals)] = [float(v) for v in vals]
+    return out
+
+
+def parse_shapes(
+    texts: list[str], names: list[str] | None = None, what: str = "shape"
+) -> list[np.ndarray]:
+    """Parse many shape strings at once (fast path: one numpy call per dimensionality).
+
+    Strings that are all ``x,y`` or all ``x,y,z`` with single spaces are parsed in bulk;
+    others (mixed, or irregular spacing) one by one with :func:`parse_shape`. Errors name
+    ``what`` and the string's entry in ``names``.
+
+    Examples
+    --------
+    >>> [a.shape for a in parse_shapes(["0,0 1,1", "0,0,1 1,1,2 2,2", ""])]
+    [(2, 3), (3, 3), (0, 3)]
+    """
+    out: list[np.ndarray | None] = [None] * len(texts)
+    groups: dict[int, list[int]] = {2: [], 3: []}
+    counts = np.zeros(len(texts), dtype=np.int64)
+    for i, t in enumerate(texts):
+        if not t:
+            out[i] = _EMPTY
+            continue
+        n = t.count(" ") + 1
+        commas = t.count(",")
+        if commas == n and t[0] != " " and t[-1] != " ":
+            groups[2].append(i)
+        elif commas == 2 * n and t[0] != " " and t[-1] != " ":
+            groups[3].append(i)
+        else:
+            out[i] = _parse_one(t, names, what, i)
+            continue
+        counts[i] = n
+    for dim, all_idx in groups.items():
+        for k in range(0, len(all_idx), _BATCH):
+            idx = all_idx[k : k + _BATCH]
+            joined = " ".join([texts[i] for i in idx]).replace(",", " ")
+            flat = _bulk_floats(joined)
+            n_pts = counts[idx]
+            if flat is None or flat.size != dim * int(n_pts.sum()):
+                for i in idx:  # fall back to find the bad one
+                    out[i] = _parse_one(texts[i], names, what, i)
+                continue
+            pts = flat.reshape(-1, dim)
+            if dim == 2:
+                pts = np.column_stack((pts, np.zeros(len(pts))))
+            ends = np.cumsum(n_pts).tolist()
+            starts = [0, *ends[:-1]]
+            for i, a, b in zip(idx, starts, ends, strict=True):
+                out[i] = pts[a:b]
+    return out  # type: ignore[return-value]
+
+
+_BATCH = 20000
+
+
+def _bulk_floats(text: str) -> np.ndarray | None:
+    try:
+        arr = np.array(text.split(), dtype=np.float64)
+    except ValueError:
+        return None
+    return arr if np.isfinite(arr).all() else None
+
+
+def _parse_one(text: str, names: list[str] | None, what: str, i: int) -> np.ndarray:
+    what = f"{what} {names[i]!r}" if names is not None else f"{what} #{i + 1}"
+    try:
+        arr = parse_shape(text)
+    except ValueError as exc:
+        raise InputError(f"{what}: bad shape: {exc}") from exc
+    if not np.isfinite(arr).all():
+        raise InputError(f"{what}: non-finite coordinate in shape {text[:60]!r}")
+    return arr

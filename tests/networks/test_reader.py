@@ -1,0 +1,184 @@
+"""The streaming network reader: content, shapes, and refusal of bad input."""
+
+from __future__ import annotations
+
+import doctest
+import gzip
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import networks.geometry
+import networks.paths
+import networks.reader
+import networks.safe_xml
+from networks.reader import DEFAULT_LANE_WIDTH_M, parse_shapes, read_network, resolve_allowed
+from vehicles.errors import InputError
+
+NODES = """
+<node id="A" x="0" y="0" type="priority"/>
+<node id="B" x="100" y="0" z="2" type="priority"/>
+<node id="C" x="100" y="100" type="priority"/>
+"""
+EDGES = """
+<edge id="AB" from="A" to="B" numLanes="2" width="3.5"/>
+<edge id="BC" from="B" to="C" numLanes="1" disallow="pedestrian"/>
+"""
+
+
+def test_doctests_of_network_modules():
+    for mod in (networks.geometry, networks.paths, networks.reader, networks.safe_xml):
+        result = doctest.testmod(mod)
+        assert result.failed == 0, mod.__name__
+
+
+def test_reads_lanes_edges_connections_junctions(build_net):
+    path = build_net(NODES, EDGES)
+    net = read_network(path)
+    assert set(net.edges) >= {"AB", "BC"}
+    ab = net.edges["AB"]
+    assert (ab.from_junction, ab.to_junction, ab.function) == ("A", "B", "normal")
+    assert ab.lanes == ["AB_0", "AB_1"]
+    lane = net.lanes["AB_1"]
+    assert lane.index == 1 and lane.width_m == pytest.approx(3.5)
+    assert lane.shape.shape[1] == 3
+    # z rises from 0 at A to 2 at B along the lane
+    assert lane.shape[0, 2] == pytest.approx(0.0, abs=0.05)
+    assert lane.shape[-1, 2] > 1.5
+    bc = net.lanes["BC_0"]
+    assert bc.width_m == DEFAULT_LANE_WIDTH_M
+    assert "pedestrian" not in bc.allowed and "passenger" in bc.allowed
+    conns = [c for c in net.connections if c.from_edge == "AB" and c.to_edge == "BC"]
+    assert conns and all(c.via and c.via.startswith(":B_") for c in conns)
+    via = net.lanes[conns[0].via]
+    assert via.function == "internal" and via.is_internal
+    assert net.junctions["B"].shape.shape[0] >= 3
+    assert net.has_internal_lanes
+    assert net.location.conv_boundary[2] == pytest.approx(100.0)
+    assert net.outgoing(conns[0].from_lane) == [
+        c for c in conns if c.from_lane == conns[0].from_lane
+    ]
+    assert net.incoming("BC_0")
+
+
+def test_reads_gzip_the_same(build_net, tmp_path):
+    path = build_net(NODES, EDGES)
+    gz = tmp_path / "copy.net.xml.gz"
+    gz.write_bytes(gzip.compress(path.read_bytes()))
+    a, b = read_network(path), read_network(gz)
+    assert a.lanes.keys() == b.lanes.keys()
+    for k in a.lanes:
+        np.testing.assert_array_equal(a.lanes[k].shape, b.lanes[k].shape)
+
+
+def test_shapes_mix_2d_and_3d():
+    out = parse_shapes(["0,0 1,2", "0,0,1 1,1,2", "0,0 5,5,3 6,6", ""])
+    assert out[0].tolist() == [[0, 0, 0], [1, 2, 0]]
+    assert out[1][:, 2].tolist() == [1, 2]
+    assert out[2].tolist() == [[0, 0, 0], [5, 5, 3], [6, 6, 0]]
+    assert out[3].shape == (0, 3)
+
+
+def test_bad_shape_names_the_lane():
+    with pytest.raises(InputError, match="lane 'x_0'.*bad shape"):
+        parse_shapes(["0,0 1"], ["x_0"], "net.xml: lane")
+
+
+def test_resolve_allowed():
+    assert resolve_allowed("bus", None) == frozenset({"bus"})
+    assert "passenger" not in resolve_allowed(None, "passenger truck")
+    assert resolve_allowed("all", "all") == frozenset()
+
+
+def _write(tmp_path: Path, name: str, text: str | bytes) -> Path:
+    p = tmp_path / name
+    p.write_bytes(text if isinstance(text, bytes) else text.encode())
+    return p
+
+
+def test_missing_file(tmp_path):
+    with pytest.raises(InputError, match="no such file"):
+        read_network(tmp_path / "nope.net.xml")
+
+
+def test_directory_is_refused(tmp_path):
+    with pytest.raises(InputError, match="not a regular file"):
+        read_network(tmp_path)
+
+
+def test_not_xml(tmp_path):
+    p = _write(tmp_path, "a.net.xml", "this is not xml at all\n")
+    with pytest.raises(InputError, match=r"a\.net\.xml.*not XML"):
+        read_network(p)
+
+
+def test_empty_file(tmp_path):
+    p = _write(tmp_path, "e.net.xml", "")
+    with pytest.raises(InputError, match="empty"):
+        read_network(p)
+
+
+def test_xml_that_is_not_a_network(tmp_path):
+    p = _write(tmp_path, "r.xml", '<?xml version="1.0"?><routes><vehicle id="v"/></routes>')
+    with pytest.raises(InputError, match=r"r\.xml: not a SUMO network \(root element <routes>"):
+        read_network(p)
+
+
+def test_empty_network(tmp_path):
+    p = _write(tmp_path, "n.net.xml", '<net version="1.20"><location netOffset="0,0"/></net>')
+    with pytest.raises(InputError, match=r"n\.net\.xml: the network is empty"):
+        read_network(p)
+
+
+def test_entity_declarations_are_refused(tmp_path):
+    bomb = (
+        '<?xml version="1.0"?>\n<!DOCTYPE net [\n <!ENTITY a "aaaaaaaaaa">\n'
+        ' <!ENTITY b "&a;&a;&a;&a;&a;&a;&a;&a;&a;&a;">\n <!ENTITY c "&b;&b;&b;&b;&b;&b;&b;&b;">\n'
+        ']>\n<net><edge id="&c;"/></net>\n'
+    )
+    p = _write(tmp_path, "bomb.net.xml", bomb)
+    with pytest.raises(InputError, match=r"bomb\.net\.xml: refused.*entities"):
+        read_network(p)
+
+
+def test_external_entity_is_never_fetched(tmp_path):
+    secret = _write(tmp_path, "secret.txt", "SECRET")
+    xxe = (
+        f'<?xml version="1.0"?><!DOCTYPE net [<!ENTITY x SYSTEM "file://{secret}">]>'
+        '<net><edge id="&x;"/></net>'
+    )
+    p = _write(tmp_path, "xxe.net.xml", xxe)
+    with pytest.raises(InputError, match="entities"):
+        read_network(p)
+
+
+def test_undeclared_entity_reference_is_an_error(tmp_path):
+    p = _write(tmp_path, "u.net.xml", '<net><edge id="&x;" from="a" to="b"/></net>')
+    with pytest.raises(InputError, match=r"u\.net\.xml: malformed"):
+        read_network(p)
+
+
+def test_truncated_file(build_net, tmp_path):
+    data = build_net(NODES, EDGES).read_bytes()
+    p = _write(tmp_path, "cut.net.xml", data[: len(data) * 2 // 3])
+    with pytest.raises(InputError, match=r"cut\.net\.xml: malformed or truncated"):
+        read_network(p)
+
+
+def test_truncated_gzip(build_net, tmp_path):
+    data = gzip.compress(build_net(NODES, EDGES).read_bytes())
+    p = _write(tmp_path, "cut.net.xml.gz", data[: len(data) // 2])
+    with pytest.raises(InputError, match=r"cut\.net\.xml\.gz: .*(truncated|decompress)"):
+        read_network(p)
+
+
+def test_bad_number_names_the_element(tmp_path):
+    p = _write(
+        tmp_path,
+        "bad.net.xml",
+        '<net><edge id="e" from="a" to="b"><lane id="e_0" index="zero" shape="0,0 1,1"/></edge>'
+        "</net>",
+    )
+    with pytest.raises(InputError, match=r"bad\.net\.xml: bad value in <lane e_0>"):
+        read_network(p)
