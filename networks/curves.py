@@ -124,7 +124,7 @@ class CurveOptions:
 
     approach_length_m: float = 25.0
     step_m: float = 0.25
-    window_m: float = 2.0
+    window_m: float = 3.0
     grade_window_m: float = 3.0
     bend_max_radius_m: float = 50.0
     bend_min_turn_deg: float = 20.0
@@ -175,8 +175,9 @@ def _turn_deg(line: np.ndarray, a: float, b: float) -> float:
     s = arc_length(pts)
     d = pts[1:, :2] - pts[:-1, :2]
     h = unwrap(np.arctan2(d[:, 1], d[:, 0]))
-    i = int(np.clip(np.searchsorted(s, a + 1e-6, side="left") - 1, 0, len(h) - 1))
-    j = int(np.clip(np.searchsorted(s, b - 1e-6, side="right") - 1, 0, len(h) - 1))
+    # the chord that ends where the core starts, the chord that starts where it ends
+    i = int(np.clip(np.searchsorted(s, a - 1e-6, side="left") - 1, 0, len(h) - 1))
+    j = int(np.clip(np.searchsorted(s, b + 1e-6, side="right") - 1, 0, len(h) - 1))
     return float(np.degrees(h[j] - h[i]))
 
 
@@ -315,7 +316,9 @@ def find_ramps(net: Network, opts: CurveOptions) -> tuple[list[Curve], set[str]]
                 return b
         return None
 
-    heads = [e for e in sorted(graded) if not any(link(p) == e for p in pred.get(e, ()))]
+    heads = [
+        e for e in sorted(graded) if not any(p in graded and link(p) == e for p in pred.get(e, ()))
+    ]
     curves: list[Curve] = []
     covered: set[str] = set()
     for head in heads:
@@ -379,11 +382,7 @@ def find_bends(net: Network, opts: CurveOptions, skip_edges: set[str]) -> Iterab
             if np.abs(turns).sum() < min_turn:
                 continue
             s, k = curvature_profile(pts, opts.step_m, opts.window_m)
-            tight = radius_from_curvature(k) < opts.bend_max_radius_m
-            for n, (i, j) in enumerate(_runs(tight)):
-                turn = float(np.trapezoid(k[i:j], s[i:j])) if j - i > 1 else 0.0
-                if abs(turn) < min_turn:
-                    continue
+            for n, (i, j) in enumerate(_bend_runs(s, k, opts)):
                 path = build_path(
                     net,
                     [],
@@ -396,6 +395,22 @@ def find_bends(net: Network, opts: CurveOptions, skip_edges: set[str]) -> Iterab
                 )
                 junction = net.edges[edge_id].from_junction
                 yield make_curve(net, f"bend:{lane_id}:{n}", "bend", junction, path, opts)
+
+
+def _bend_runs(s: np.ndarray, k: np.ndarray, opts: CurveOptions) -> list[tuple[int, int]]:
+    """Stretches of one sign of curvature that are tighter than the bend radius somewhere
+    and turn at least the bend angle; each grown to where the curvature fades out."""
+    tight = radius_from_curvature(k) < opts.bend_max_radius_m
+    fade = 0.2 / opts.bend_max_radius_m
+    out = []
+    for sign in (1.0, -1.0):
+        for i, j in _runs(sign * k > fade):
+            if not tight[i:j].any() or j - i < 2:
+                continue
+            turn = float(np.trapezoid(k[i:j], s[i:j]))
+            if abs(turn) >= math.radians(opts.bend_min_turn_deg):
+                out.append((i, j))
+    return sorted(out)
 
 
 def _runs(mask: np.ndarray) -> list[tuple[int, int]]:

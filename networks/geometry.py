@@ -18,6 +18,13 @@ import numpy as np
 #: Chords shorter than this (metres) are dropped before computing headings.
 MIN_CHORD_M = 1e-6
 
+#: Before curvature is fitted, vertices closer than this along the line are thinned out:
+#: SUMO writes coordinates to 0.01 m, which on 0.5 m chords is a heading noise of 1°.
+CURVATURE_MIN_CHORD_M = 1.5
+
+#: The widest window of arc length the adaptive curvature fit uses (metres).
+MAX_WINDOW_M = 15.0
+
 
 def navigational_to_heading_rad(angle_deg: float | np.ndarray) -> float | np.ndarray:
     """Convert a SUMO angle (degrees clockwise from north) to a heading (rad, CCW from +x).
@@ -157,17 +164,48 @@ def signed_turn_deg(points: np.ndarray) -> float:
     return float(np.degrees(h[-1] - h[0]))
 
 
+def thin_polyline(points: np.ndarray, min_chord_m: float = CURVATURE_MIN_CHORD_M) -> np.ndarray:
+    """Keep the ends and the vertices at least ``min_chord_m`` (arc length) after the last kept.
+
+    Examples
+    --------
+    >>> thin_polyline(np.array([[0, 0], [0.5, 0], [1.0, 0], [2.0, 0], [2.2, 0.0]]), 1.0)[:, 0]
+    array([0. , 1. , 2.2])
+    >>> thin_polyline(np.array([[0, 0], [0.1, 0.0]]), 1.0).shape
+    (2, 2)
+    """
+    pts = np.asarray(points, dtype=float)
+    if len(pts) < 3:
+        return pts
+    s = arc_length(pts)
+    if np.min(s[1:] - s[:-1]) >= min_chord_m:
+        return pts
+    keep = [0]
+    last = 0.0
+    for i in range(1, len(pts) - 1):
+        if s[i] - last >= min_chord_m:
+            keep.append(i)
+            last = s[i]
+    if s[-1] - last < 0.5 * min_chord_m and len(keep) > 1:
+        keep.pop()
+    keep.append(len(pts) - 1)
+    return pts[keep]
+
+
 def curvature_profile(
     points: np.ndarray,
     step_m: float = 0.25,
-    window_m: float = 2.0,
+    window_m: float = 3.0,
     s_from_m: float = 0.0,
     s_to_m: float | None = None,
+    adaptive: bool = True,
 ) -> tuple[np.ndarray, np.ndarray]:
     """Signed curvature (1/m, left positive) at stations along a polyline.
 
-    The heading (:func:`heading_at`) is differenced over a window of ``window_m`` of arc
-    length centred on each station (shrunk at the ends of the line). Stations are every
+    The line is thinned (:func:`thin_polyline`), then its heading (:func:`heading_at`) is
+    differenced over a window of ``window_m`` of arc length centred on each station (shrunk
+    at the ends of the line). With ``adaptive``, a second pass uses a window of half the
+    radius found (between ``window_m`` and :data:`MAX_WINDOW_M`). Stations are every
     ``step_m`` from ``s_from_m`` to ``s_to_m`` (default: the end).
 
     Returns
@@ -194,6 +232,7 @@ def curvature_profile(
     pts = clean_polyline(points)
     if len(pts) < 2:
         return np.zeros(0), np.zeros(0)
+    pts = thin_polyline(pts)
     s_all = arc_length(pts)
     total = float(s_all[-1])
     d = pts[1:, :2] - pts[:-1, :2]
@@ -206,14 +245,20 @@ def curvature_profile(
     s[-1] = min(s[-1], end)
     if len(pts) < 3:
         return s, np.zeros_like(s)
-    half = 0.5 * window_m
-    lo = np.maximum(s - half, 0.0)
-    hi = np.minimum(s + half, total)
-    span = hi - lo
-    h_lo = np.interp(lo, s_mid, h_chord)
-    h_hi = np.interp(hi, s_mid, h_chord)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        k = np.where(span > 1e-9, (h_hi - h_lo) / span, 0.0)
+
+    def fit(half: np.ndarray | float) -> np.ndarray:
+        lo = np.maximum(s - half, 0.0)
+        hi = np.minimum(s + half, total)
+        span = hi - lo
+        dh = np.interp(hi, s_mid, h_chord) - np.interp(lo, s_mid, h_chord)
+        return np.where(span > 1e-9, dh / np.maximum(span, 1e-9), 0.0)
+
+    k = fit(0.5 * window_m)
+    if adaptive:
+        # second pass: a window that grows with the radius found (to MAX_WINDOW_M), so
+        # that coordinate rounding does not make wide curves look tighter than they are
+        wide = np.clip(0.5 / np.maximum(np.abs(k), 1e-9), window_m, MAX_WINDOW_M)
+        k = fit(0.5 * wide)
     return s, k
 
 
