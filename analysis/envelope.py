@@ -7,13 +7,23 @@ Body rectangles
     and ``+-B/2`` across; a trailer spans ``-a_r,t .. l_t + a_f,t`` from its axle centre
     (its nose ``a_f,t`` ahead of the hitch) and ``+-B_t/2``.
 Swept envelope
-    The union, over consecutive *key* samples, of the convex hull of the body rectangle at
-    both samples. Between two samples a rigid body translates and rotates a little; the hull
-    of its two positions covers the positions in between except for the sagitta of the
-    corners' arcs, about ``(ds + D dtheta) dtheta / 8`` for a reference-point travel ``ds``,
-    a rotation ``dtheta`` and a corner ``D`` from the reference point. Key samples are chosen
-    greedily so that this stays under ``tolerance_m``; in straight driving the hull is exact
-    and samples are skipped freely. The result has no gaps between steps.
+    The body is cut at its axle into a front and a rear part. Between consecutive *key*
+    samples each part's sweep is taken as the convex hull of its two positions; the
+    envelope is the union of these hulls. The instantaneous centre of rotation of a unit
+    lies on its axle line, so each part's point nearest to it is an axle-line corner, whose
+    arc the hull replaces by a chord; every other boundary point too lies on an arc the
+    hull replaces by its chord. A vertex's path of length ``L`` that turns by ``A`` between
+    two key samples strays from its chord by at most ``L A / 4`` (the worst case being a
+    kink half-way; a circular arc strays ``L A / 8``), and edge points stray no more than
+    their vertices. Key samples are chosen greedily, from the sampled vertex paths, so that
+    this bound stays under ``tolerance_m``, both ways (hull short of the sweep, or beyond
+    it); in straight driving the hull is exact and samples are skipped freely. (A vertex
+    path turns with the body and also when the steering changes, which moves the centre of
+    rotation: both count.) The hull of the uncut body would not do: on the inside of
+    a turn its side rotates about a point between its ends, and the hull of two positions
+    cuts the corner between the rear of one and the front of the other by
+    ``dtheta a b / (a + b)`` (``a`` behind, ``b`` ahead of the axle), a first-order error.
+    The result has no gaps between steps.
 Wheel tracks
     Contact paths of the wheels as line strings: front and rear wheels at ``+-w/2`` from the
     axle centres (the rear track is taken equal to the steered track ``w``); trailer wheels at
@@ -47,8 +57,8 @@ from vehicles.vehicle import Vehicle
 
 FloatArray = NDArray[np.float64]
 
-DEFAULT_TOLERANCE_M = 0.01
-"""Default largest gap between the true swept area and its polygon (m)."""
+DEFAULT_TOLERANCE_M = 0.02
+"""Default bound on the distance between the true swept area's boundary and the polygon's (m)."""
 
 DEFAULT_WIDTH_STEP_M = 0.5
 """Default distance between the stations where the swept width is measured (m)."""
@@ -126,40 +136,52 @@ def body_corners(
 
 
 def key_samples(
-    x_m: FloatArray,
-    y_m: FloatArray,
-    theta_rad: FloatArray,
-    reach_m: float,
-    tolerance_m: float = DEFAULT_TOLERANCE_M,
+    px_m: FloatArray, py_m: FloatArray, tolerance_m: float = DEFAULT_TOLERANCE_M
 ) -> NDArray[np.intp]:
     """Indices of the samples whose consecutive hulls approximate the sweep within tolerance.
 
+    Parameters
+    ----------
+    px_m, py_m
+        ``(n, m)`` paths of the ``m`` vertices of the moving shape, ``n`` samples.
+    tolerance_m
+        Bound on how far any vertex's path strays from its chord between key samples.
+
     Greedy: from a key sample ``i``, the next is the farthest ``j`` with
-    ``(S_ij + reach_m A_ij) A_ij / 8 <= tolerance_m``, ``S_ij`` the travel of the reference
-    point and ``A_ij`` the summed absolute rotation between them. The first and last samples
-    are always included.
+    ``max over vertices of L_ij A_ij / 4 <= tolerance_m``, ``L_ij`` the vertex's path length
+    and ``A_ij`` the summed absolute turning of its path between them (a path of length ``L``
+    turning by ``A`` strays at most ``L A / 4`` from its chord). Points of the edges stray
+    no more than their end points (they move as fixed blends of them). The first and last
+    samples are always included.
 
     Examples
     --------
     Straight driving needs only the ends:
 
-    >>> x = np.linspace(0.0, 50.0, 501)
-    >>> key_samples(x, 0 * x, 0 * x, 10.0).tolist()
+    >>> x = np.linspace(0.0, 50.0, 501)[:, None] + np.array([[0.0, 1.0]])
+    >>> key_samples(x, 0 * x).tolist()
     [0, 500]
     """
-    n = len(x_m)
+    n = px_m.shape[0]
     if n <= 2:
         return np.arange(n)
-    travel = np.concatenate([[0.0], np.cumsum(np.hypot(np.diff(x_m), np.diff(y_m)))])
-    turn = np.concatenate([[0.0], np.cumsum(np.abs(np.diff(theta_rad)))])
+    dx, dy = np.diff(px_m, axis=0), np.diff(py_m, axis=0)
+    chord = np.hypot(dx, dy)
+    length = np.concatenate([np.zeros((1, px_m.shape[1])), np.cumsum(chord, axis=0)])
+    heading = np.arctan2(dy, dx)
+    moving = chord > 1e-12
+    bend = np.abs(np.angle(np.exp(1j * np.diff(heading, axis=0))))
+    bend = np.where(moving[1:] & moving[:-1], bend, 0.0)
+    # turn[k]: turning up to and including the bend at sample k (a little conservative)
+    turn = np.concatenate([np.zeros((2, px_m.shape[1])), np.cumsum(bend, axis=0)])
     keys = [0]
     i = 0
     while i < n - 1:
         chunk = 256
         while True:
             stop = min(n, i + 1 + chunk)
-            da = turn[i + 1:stop] - turn[i]
-            cost = (travel[i + 1:stop] - travel[i] + reach_m * da) * da / 8.0
+            cost = np.max((length[i + 1:stop] - length[i]) * (turn[i + 1:stop] - turn[i]),
+                          axis=1) / 4.0
             ok = int(np.searchsorted(cost, tolerance_m, side="right"))
             if ok < stop - i - 1 or stop == n:
                 break
@@ -195,17 +217,25 @@ def sweep(
 
     >>> th = np.linspace(0.0, np.pi, 721)
     >>> a = sweep(0 * th, 0 * th, th, 1.5, 1.5, 0.0)
-    >>> bool(np.pi * (1.5 - 0.01) ** 2 < a.area < np.pi * 1.5 ** 2)
+    >>> bool(np.pi * (1.5 - 0.02) ** 2 < a.area < np.pi * 1.5 ** 2)
     True
     """
-    keys = key_samples(x_m, y_m, theta_rad, math.hypot(max(ahead_m, behind_m), width_m / 2),
-                       tolerance_m)
-    corners = body_corners(x_m[keys], y_m[keys], theta_rad[keys], ahead_m, behind_m, width_m)
+    # vertices of both parts: the body's corners and the two ends of its axle line
+    verts = body_corners(x_m, y_m, theta_rad, ahead_m, behind_m, width_m)
+    axle = body_corners(x_m, y_m, theta_rad, 0.0, 0.0, width_m)[:, 1:3]
+    pts = np.concatenate([verts, axle], axis=1)
+    keys = key_samples(pts[..., 0], pts[..., 1], tolerance_m)
+    xs, ys, ths = x_m[keys], y_m[keys], theta_rad[keys]
     if len(keys) == 1:
-        return shapely.convex_hull(shapely.multipoints(corners[0]))
-    pairs = np.concatenate([corners[:-1], corners[1:]], axis=1)
-    hulls = shapely.convex_hull(shapely.multipoints(pairs))
-    return shapely.union_all(hulls)
+        return shapely.polygons(body_corners(xs, ys, ths, ahead_m, behind_m, width_m)[0])
+    pieces = []
+    for ahead, behind in ((ahead_m, 0.0), (0.0, behind_m)):
+        if ahead + behind <= 0:
+            continue
+        corners = body_corners(xs, ys, ths, ahead, behind, width_m)
+        pairs = np.concatenate([corners[:-1], corners[1:]], axis=1)
+        pieces.append(shapely.convex_hull(shapely.multipoints(pairs)))
+    return shapely.union_all(np.concatenate(pieces))
 
 
 def _nearest_on_segments(

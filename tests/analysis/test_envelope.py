@@ -1,0 +1,130 @@
+"""Swept envelopes, offtracking and swept width against closed forms and symmetry."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+import shapely
+from shapely import affinity
+
+from analysis.envelope import body_corners, swept_path
+from analysis.kinematics import arc_step
+from analysis.tracking import simulate, simulate_batch
+from tests.analysis.helpers import bus, car, semi, steady_rho, turn
+
+
+def _steady(vehicle, radius):
+    rho = steady_rho(radius, vehicle.wheelbase_m)
+    half_b = vehicle.width_m / 2
+    ctr = math.hypot(rho, vehicle.wheelbase_m)
+    width = math.hypot(rho + half_b, vehicle.wheelbase_m + vehicle.front_overhang_m) - (
+        rho - half_b)
+    return rho, ctr, width
+
+
+@pytest.mark.parametrize(("vehicle", "radius"), [(car(), 8.0), (bus(), 20.0)])
+def test_long_arc_offtracking_and_swept_width_match_steady_state(vehicle, radius) -> None:
+    # 270 degrees: the body settles (an e-fold per ~l of travel) well before the end
+    run = simulate(vehicle, turn(radius, 270.0, lead_m=5.0, tail_m=0.0))
+    assert run.followed
+    sp = swept_path(run)
+    rho, ctr, width = _steady(vehicle, radius)
+    assert sp.max_offtracking_m == pytest.approx(ctr - rho, rel=0.01)
+    assert sp.max_swept_width_m == pytest.approx(width, rel=0.01)
+    # and the maximum sits late on the arc
+    assert sp.max_offtracking_station_m > 5.0 + radius * math.radians(135.0)
+
+
+@pytest.mark.parametrize("vehicle", [car(), bus()])
+def test_transient_offtracking_through_90_degrees_stays_below_steady_state(vehicle) -> None:
+    radius = 1.3 * math.hypot(vehicle.min_radius_m, vehicle.wheelbase_m)
+    run = simulate(vehicle, turn(radius, 90.0))
+    sp = swept_path(run)
+    rho, ctr, width = _steady(vehicle, radius)
+    assert 0.5 * (ctr - rho) < sp.max_offtracking_m < ctr - rho
+    assert sp.max_swept_width_m < width * 1.001
+
+
+def test_left_turn_mirrors_right_turn() -> None:
+    left, right = simulate_batch([bus(), bus()], [turn(12.0, 90.0), turn(12.0, 90.0, left=False)])
+    a, b = swept_path(left), swept_path(right)
+    mirrored = affinity.scale(b.envelope, xfact=1.0, yfact=-1.0, origin=(0.0, 0.0))
+    assert shapely.symmetric_difference(a.envelope, mirrored).area < 1e-6 * a.envelope.area
+    assert np.allclose(a.offtracking_m, b.offtracking_m, atol=1e-9)
+    assert np.allclose(a.swept_width_m, b.swept_width_m, atol=1e-6)
+    left_rear = np.asarray(a.wheel_tracks["rear_left"].coords)
+    right_rear = np.asarray(b.wheel_tracks["rear_right"].coords)
+    assert np.allclose(left_rear * [1, -1], right_rear, atol=1e-9)
+
+
+def test_straight_run_envelope_is_a_stretched_body() -> None:
+    v = bus()
+    run = simulate(v, [(0.0, 0.0), (25.0, 0.0)])
+    sp = swept_path(run)
+    assert sp.envelope.area == pytest.approx((v.length_m + 25.0) * v.width_m, rel=1e-9)
+    assert np.allclose(sp.swept_width_m[:, 1], v.width_m)
+    assert sp.max_offtracking_m < 1e-9
+    assert sp.trailer is None and sp.trailer_offtracking_m is None
+
+
+@pytest.mark.parametrize("vehicle", [car(), semi()])
+def test_envelope_has_no_gaps_between_steps(vehicle) -> None:
+    run = simulate(vehicle, turn(15.0, 110.0))
+    sp = swept_path(run, tolerance_m=0.01)
+    tr = run.trajectory
+    grown = shapely.buffer(sp.envelope, 0.01 + 1e-9)
+    rng = np.random.default_rng(7)
+    k = rng.integers(0, len(tr) - 1, size=200)
+    f = rng.uniform(0.0, 1.0, size=200)
+    # poses between samples: the held steering over a fraction of each step
+    dt = np.diff(tr.t_s)[k] * f
+    v_rear = tr.speed_m_s[k] * np.cos(tr.phi_rad[k])
+    x, y, th = arc_step(tr.x_m[k], tr.y_m[k], tr.theta_rad[k], v_rear, tr.phi_rad[k],
+                        vehicle.wheelbase_m, dt)
+    bodies = shapely.polygons(body_corners(x, y, th, vehicle.wheelbase_m
+                                           + vehicle.front_overhang_m,
+                                           vehicle.rear_overhang_m, vehicle.width_m))
+    assert shapely.covers(grown, bodies).all()
+    all_bodies = shapely.polygons(body_corners(tr.x_m, tr.y_m, tr.theta_rad,
+                                               vehicle.wheelbase_m + vehicle.front_overhang_m,
+                                               vehicle.rear_overhang_m, vehicle.width_m))
+    assert shapely.covers(grown, all_bodies).all()
+    if vehicle.trailer is not None:
+        t = vehicle.trailer
+        trailers = shapely.polygons(body_corners(tr.xt_m, tr.yt_m, tr.theta_t_rad,
+                                                 t.wheelbase_m + t.front_overhang_m,
+                                                 t.rear_overhang_m, t.width_m))
+        assert shapely.covers(grown, trailers).all()
+        assert shapely.covers(shapely.buffer(sp.trailer, 0.011), trailers).all()
+
+
+def test_wheel_tracks_in_steady_state_give_the_turning_radii() -> None:
+    v = car()
+    radius = 9.0
+    run = simulate(v, turn(radius, 270.0, lead_m=5.0, tail_m=0.0))
+    sp = swept_path(run)
+    rho = steady_rho(radius, v.wheelbase_m)
+    late = run.trajectory.s_m > 5.0 + radius * math.radians(200.0)
+    half_w = v.track_m / 2
+    inner_rear = np.asarray(sp.wheel_tracks["rear_left"].coords)[late]
+    outer_front = np.asarray(sp.wheel_tracks["front_right"].coords)[late]
+    assert np.allclose(np.hypot(inner_rear[:, 0], inner_rear[:, 1] - radius), rho - half_w,
+                       rtol=2e-3)
+    # curb-to-curb turning circle D_curb / 2 = sqrt((rho + w/2)^2 + l^2)
+    assert np.allclose(np.hypot(outer_front[:, 0], outer_front[:, 1] - radius),
+                       math.hypot(rho + half_w, v.wheelbase_m), rtol=2e-3)
+
+
+def test_semitrailer_offtracking_reaches_its_closed_form() -> None:
+    v = semi()
+    t = v.trailer
+    radius = 16.0
+    run = simulate(v, turn(radius, 600.0, lead_m=2.0, tail_m=0.0))
+    sp = swept_path(run, width_step_m=2.0)
+    rho = steady_rho(radius, v.wheelbase_m)
+    r_t = math.sqrt(rho**2 + t.hitch_offset_m**2 - t.wheelbase_m**2)
+    assert sp.trailer_offtracking_m[-1] == pytest.approx(radius - r_t, rel=0.01)
+    assert sp.max_trailer_offtracking_m == pytest.approx(radius - r_t, rel=0.01)
+    assert set(sp.wheel_tracks) >= {"trailer_left", "trailer_right"}
