@@ -1,0 +1,151 @@
+"""``clearance curves``: list the curves of a SUMO network (turns, roundabouts, ramps, bends)."""
+
+from __future__ import annotations
+
+import argparse
+import csv
+import math
+import os
+import sys
+import tempfile
+from collections.abc import Sequence
+from pathlib import Path
+
+from networks.curves import KINDS, Curve, CurveOptions, extract_curves
+from networks.reader import read_network
+from vehicles.errors import InputError
+
+#: CSV columns, in order.
+COLUMNS = (
+    "curve_id",
+    "kind",
+    "junction",
+    "lanes",
+    "min_radius",
+    "turn_angle_deg",
+    "length",
+    "lane_width",
+    "max_grade_pct",
+    "max_grade_change_pct",
+)
+
+
+def add_parser(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParser:
+    """Register ``curves`` with the ``clearance`` command."""
+    parser = subparsers.add_parser(
+        "curves",
+        help="list the curves of a SUMO network",
+        description=(
+            "Find the junction turns, roundabout paths, ramps and tight bends of a SUMO "
+            "network and print their radius, turn angle, length, lane width and grade. "
+            "Lengths in metres, angles in degrees (left turns positive)."
+        ),
+    )
+    parser.add_argument("-n", "--net", required=True, type=Path, help=".net.xml or .net.xml.gz")
+    parser.add_argument(
+        "--kind",
+        action="append",
+        choices=KINDS,
+        help="only curves of this kind (repeat for several; default: all)",
+    )
+    parser.add_argument("-o", "--output", type=Path, help="write the table as CSV here")
+    parser.add_argument(
+        "--approach",
+        type=float,
+        default=CurveOptions.approach_length_m,
+        metavar="M",
+        help="approach and exit length of each centre line (default %(default)s m)",
+    )
+    parser.add_argument(
+        "--limit", type=int, default=40, metavar="N", help="print at most N rows (default 40)"
+    )
+    parser.set_defaults(run=run)
+    return parser
+
+
+def run(args: argparse.Namespace) -> int:
+    """Read the network, extract the curves, print a summary and write the CSV."""
+    if not (args.approach > 0 and math.isfinite(args.approach)):
+        raise InputError(f"--approach must be a positive length in metres, not {args.approach}")
+    net = read_network(args.net)
+    options = CurveOptions(approach_length_m=args.approach)
+    curves = extract_curves(net, args.kind or KINDS, options, areas=False)
+    rows = [curve_row(c) for c in curves]
+    print_summary(args.net, rows, args.limit)
+    if args.output is not None:
+        write_csv_atomic(args.output, rows)
+        print(f"wrote {len(rows)} curve(s) to {args.output}")
+    return 0
+
+
+def curve_row(curve: Curve) -> dict[str, str]:
+    """One CSV row (values formatted: metres to 0.01, degrees to 0.1, grades to 0.01 %)."""
+    return {
+        "curve_id": curve.curve_id,
+        "kind": curve.kind,
+        "junction": curve.junction,
+        "lanes": " ".join(curve.lanes),
+        "min_radius": _num(curve.min_radius_m, 2),
+        "turn_angle_deg": _num(curve.turn_angle_deg, 1),
+        "length": _num(curve.length_m, 2),
+        "lane_width": _num(curve.lane_width_m, 2),
+        "max_grade_pct": _num(curve.max_grade_pct, 2),
+        "max_grade_change_pct": _num(curve.max_grade_change_pct, 2),
+    }
+
+
+def _num(value: float, digits: int) -> str:
+    if math.isinf(value):
+        return "inf"
+    return f"{value:.{digits}f}"
+
+
+def print_summary(net_path: Path, rows: Sequence[dict[str, str]], limit: int) -> None:
+    """Print counts per kind and the tightest curves as an aligned table."""
+    counts = {k: sum(1 for r in rows if r["kind"] == k) for k in KINDS}
+    summary = ", ".join(f"{n} {k}" for k, n in counts.items() if n) or "no curves"
+    print(f"{net_path}: {summary}")
+    if not rows:
+        return
+    shown = sorted(rows, key=lambda r: (float(r["min_radius"]), r["curve_id"]))[: max(limit, 0)]
+    cols = ("curve_id", "kind", "min_radius", "turn_angle_deg", "length", "lane_width")
+    cols += ("max_grade_pct",)
+    heads = ("curve", "kind", "R min [m]", "turn [deg]", "length [m]", "width [m]", "grade [%]")
+    widths = [max(len(h), *(len(r[c]) for r in shown)) for h, c in zip(heads, cols, strict=True)]
+    print(_line(heads, widths))
+    for r in shown:
+        print(_line([r[c] for c in cols], widths))
+    if len(rows) > len(shown):
+        print(f"... {len(rows) - len(shown)} more (the tightest are shown; see --output)")
+
+
+def _line(cells: Sequence[str], widths: Sequence[int]) -> str:
+    """Text columns left-aligned, numbers right-aligned."""
+    parts = [
+        v.ljust(w) if i < 2 else v.rjust(w)
+        for i, (v, w) in enumerate(zip(cells, widths, strict=True))
+    ]
+    return "  ".join(parts).rstrip()
+
+
+def write_csv_atomic(path: Path, rows: Sequence[dict[str, str]]) -> None:
+    """Write rows as CSV to a temporary file next to ``path``, then rename it into place."""
+    directory = path.resolve().parent
+    if not directory.is_dir():
+        raise InputError(f"{path}: the directory {directory} does not exist")
+    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=directory)
+    try:
+        with os.fdopen(fd, "w", newline="", encoding="utf-8") as fh:
+            writer = csv.DictWriter(fh, fieldnames=COLUMNS)
+            writer.writeheader()
+            writer.writerows(rows)
+        os.replace(tmp, path)
+    except BaseException:
+        Path(tmp).unlink(missing_ok=True)
+        raise
+
+
+if __name__ == "__main__":  # pragma: no cover
+    from reports.cli import main
+
+    sys.exit(main(["curves", *sys.argv[1:]]))
