@@ -1,0 +1,64 @@
+"""The OpenStreetMap networks shipped with eclipse-sumo load and give sensible curves."""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from networks.curves import extract_curves
+from networks.reader import read_network
+
+
+def _game_net(relative: str) -> Path:
+    try:
+        from networks.sumo_tools import sumo_home
+
+        path = sumo_home() / "tools" / "game" / relative
+    except FileNotFoundError as exc:  # pragma: no cover
+        pytest.skip(f"SUMO is not installed: {exc}")
+    if not path.exists():  # pragma: no cover - depends on the eclipse-sumo layout
+        pytest.skip(f"{relative} is not shipped under {path.parent.parent} in this SUMO version")
+    return path
+
+
+def test_a10kw_osm_roundabouts_and_turns():
+    net = read_network(_game_net("A10KW/osm.net.xml"))
+    assert net.roundabouts, "the A10KW network has a roundabout"
+    curves = extract_curves(net)
+    kinds = {c.kind for c in curves}
+    assert {"turn", "roundabout"} <= kinds
+    ring = [c for c in curves if c.kind == "roundabout"]
+    assert len(ring) >= 4
+    for c in ring:
+        # entries and exits of an urban roundabout: a few metres to a few tens of metres
+        assert 2.0 < c.min_radius_m < 60.0, c.curve_id
+        assert abs(c.turn_angle_deg) < 400.0
+        assert c.lanes[0] in net.lanes and c.lanes[-1] in net.lanes
+    # the ring lanes themselves: radius of a circle through the ring lanes' points
+    ring_edges = net.roundabouts[0].edges
+    pts = np.vstack([net.lanes[net.edges[e].lanes[0]].shape[:, :2] for e in ring_edges])
+    a = np.c_[2 * pts, np.ones(len(pts))]
+    cx, cy, c0 = np.linalg.lstsq(a, (pts**2).sum(axis=1), rcond=None)[0]
+    ring_radius = math.sqrt(c0 + cx**2 + cy**2)
+    assert 8.0 < ring_radius < 80.0
+    # along the ring the curves run on its outer or inner lane, near that circle
+    long_ones = [c for c in ring if abs(c.turn_angle_deg) > 150]
+    assert long_ones
+    for c in long_ones:
+        mid = (c.profile_s_m > c.core_start_m + 15) & (c.profile_s_m < c.core_end_m - 15)
+        assert 0.5 * ring_radius < np.median(c.profile_radius_m[mid]) < 1.3 * ring_radius
+    # turns: every one has a centre line with approach, core and exit, and finite width
+    turns = [c for c in curves if c.kind == "turn"]
+    assert len(turns) > 100
+    assert all(c.lane_width_m > 2.0 and c.length_m >= 0 for c in turns)
+    assert np.median([c.min_radius_m for c in turns if abs(c.turn_angle_deg) > 60]) > 4.0
+
+
+def test_gzipped_game_network_loads():
+    net = read_network(_game_net("fkk_in/ingolstadt.net.xml.gz"))
+    assert net.edges and net.lanes
+    curves = extract_curves(net, ["turn"], areas=False)
+    assert curves and all(c.kind == "turn" for c in curves)
