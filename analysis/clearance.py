@@ -19,10 +19,19 @@ largest distance from the area of any point of the envelope outside it, evaluate
 outside part's boundary densified every ``densify_m``, so within ``densify_m / 2``).
 ``margin_m`` is the margin to the own lanes, the one that decides between ``clear`` and
 ``encroaches``.
+
+A run starts with the front axle on the centre line's first point, so the body then hangs
+back over whatever precedes the curve, and it ends with the front overhang past the last
+point. :func:`evaluate` therefore trims the (grown) envelope at the centre line's end
+normals before measuring (:func:`end_boxes`): only what is swept between the curve's ends
+counts, and the areas' boundaries there (the lanes' ends, which the trimmed envelope
+touches) do not count for the gap. A path that loops back across its own start within a
+body length would lose that part too; pass ``trim_ends=False`` there.
 """
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass, field
@@ -37,6 +46,7 @@ from analysis.envelope import (
     SweptPath,
     swept_path,
 )
+from analysis.polyline import Path
 from analysis.tracking import TrackingRun
 from vehicles.errors import InputError
 
@@ -60,6 +70,18 @@ def _check_area(name: str, geom: BaseGeometry | None, required: bool) -> None:
     if not geom.is_valid:
         raise InputError(f"clearance areas: {name} is not a valid polygon: "
                          f"{shapely.is_valid_reason(geom)}")
+
+
+def _check_offset(offset_m: float) -> None:
+    if not (isinstance(offset_m, int | float) and math.isfinite(offset_m) and offset_m >= 0):
+        raise InputError(f"clearance offset must be a number >= 0 m, got {offset_m!r}")
+
+
+def _grown(clearance: Clearance, offset_m: float) -> str:
+    """The reason of a clearance measured on an envelope grown beforehand by ``offset_m``."""
+    if offset_m <= 0 or clearance.verdict == "cannot-turn":
+        return clearance.reason
+    return clearance.reason.replace("the envelope", f"the envelope (grown by {offset_m:.2f} m)", 1)
 
 
 @dataclass(frozen=True)
@@ -114,8 +136,12 @@ def signed_margin_m(
     area: BaseGeometry,
     area_boundary: BaseGeometry | None = None,
     densify_m: float = DEFAULT_DENSIFY_M,
+    ignore: BaseGeometry | None = None,
 ) -> float:
     """Signed margin of an envelope in an area (see the module docstring).
+
+    ``ignore`` (optional) is a region where the area's boundary does not count for the gap
+    inside: the lanes' ends where the envelope was trimmed (:func:`end_boxes`).
 
     Examples
     --------
@@ -139,6 +165,10 @@ def signed_margin_m(
         raise InputError("signed_margin_m: the envelope is empty")
     if shapely.covers(area, envelope):
         boundary = area_boundary if area_boundary is not None else shapely.boundary(area)
+        if ignore is not None:
+            boundary = shapely.difference(boundary, ignore)
+            if boundary.is_empty:
+                return math.inf
         return float(shapely.distance(envelope, boundary))
     outside = shapely.difference(envelope, area)
     pts = shapely.points(shapely.get_coordinates(shapely.segmentize(outside, densify_m)))
@@ -179,6 +209,7 @@ def classify(
     offset_m: float = 0.0,
     cannot_turn_reason: str = "",
     densify_m: float = DEFAULT_DENSIFY_M,
+    ignore: BaseGeometry | None = None,
 ) -> Clearance:
     """Margins and verdict of an envelope against the areas.
 
@@ -195,6 +226,9 @@ def classify(
         ``cannot-turn`` whatever the margins.
     densify_m
         Spacing of the points where an overreach is measured.
+    ignore
+        Region where the areas' boundaries do not count for the gaps (see
+        :func:`signed_margin_m`).
 
     Examples
     --------
@@ -211,14 +245,14 @@ def classify(
     >>> classify(shapely.box(10, 0.75, 20, 2.75), areas, cannot_turn_reason="lock").verdict
     'cannot-turn'
     """
-    if not (isinstance(offset_m, int | float) and math.isfinite(offset_m) and offset_m >= 0):
-        raise InputError(f"clearance offset must be a number >= 0 m, got {offset_m!r}")
+    _check_offset(offset_m)
     grown = shapely.buffer(envelope, offset_m, quad_segs=8) if offset_m > 0 else envelope
-    own = signed_margin_m(grown, areas.own_lanes, areas.boundary("own_lanes"), densify_m)
-    paved = signed_margin_m(grown, areas.paved, areas.boundary("paved"), densify_m)
+    own = signed_margin_m(grown, areas.own_lanes, areas.boundary("own_lanes"), densify_m, ignore)
+    paved = signed_margin_m(grown, areas.paved, areas.boundary("paved"), densify_m, ignore)
     road = None
     if areas.roadway is not None:
-        road = signed_margin_m(grown, areas.roadway, areas.boundary("roadway"), densify_m)
+        road = signed_margin_m(grown, areas.roadway, areas.boundary("roadway"), densify_m,
+                               ignore)
     grown_by = f" (grown by {offset_m:.2f} m)" if offset_m > 0 else ""
     if cannot_turn_reason:
         verdict, reason = "cannot-turn", cannot_turn_reason
@@ -232,6 +266,39 @@ def classify(
         verdict = "clear"
         reason = f"the envelope{grown_by} stays {own:.2f} m inside its own lanes"
     return Clearance(verdict, own, paved, road, float(offset_m), reason)
+
+
+def end_boxes(path: Path, reach_m: float) -> BaseGeometry:
+    """Two boxes beyond the path's ends: what lies in them is trimmed from the envelope.
+
+    One box lies behind the start line (the normal through the first point), ``reach_m``
+    long and ``2 reach_m`` wide, aligned with the path's initial heading; the other past the
+    end line likewise.
+
+    Examples
+    --------
+    A straight 10 m path: the body behind the start and ahead of the end goes.
+
+    >>> from analysis.polyline import prepare_path
+    >>> p = prepare_path([(0.0, 0.0), (10.0, 0.0)])
+    >>> boxes = end_boxes(p, 8.0)
+    >>> shapely.difference(shapely.box(-5.0, -1.0, 12.0, 1.0), boxes).bounds
+    (0.0, -1.0, 10.0, 1.0)
+
+    Nothing is cut from an envelope that stays between the ends:
+
+    >>> shapely.difference(shapely.box(1.0, -1.0, 9.0, 1.0), boxes).area
+    16.0
+    """
+    boxes = []
+    for point, heading, direction in ((path.xy[0], path.heading_rad[0], -1.0),
+                                      (path.xy[-1], path.heading_rad[-1], 1.0)):
+        u = direction * np.array([math.cos(heading), math.sin(heading)])
+        n = np.array([-u[1], u[0]])
+        corners = np.array([point + reach_m * n, point - reach_m * n,
+                            point - reach_m * n + reach_m * u, point + reach_m * n + reach_m * u])
+        boxes.append(shapely.polygons(corners))
+    return shapely.union_all(boxes)
 
 
 @dataclass(frozen=True)
@@ -269,8 +336,12 @@ def evaluate(
     offset_m: float = 0.0,
     tolerance_m: float = DEFAULT_TOLERANCE_M,
     width_step_m: float = DEFAULT_WIDTH_STEP_M,
+    trim_ends: bool = True,
 ) -> RunResult:
     """Swept path, margins and verdict of one run.
+
+    The envelope is grown by ``offset_m``, trimmed at the path's ends when ``trim_ends``
+    (see the module docstring), then measured against the areas.
 
     Examples
     --------
@@ -284,7 +355,20 @@ def evaluate(
     ('clear', 0.55)
     """
     swept = swept_path(run, tolerance_m=tolerance_m, width_step_m=width_step_m)
-    return RunResult(run, swept, classify(swept.envelope, areas, offset_m, run.reason))
+    measured = swept.envelope
+    if offset_m > 0:
+        _check_offset(offset_m)
+        measured = shapely.buffer(measured, offset_m, quad_segs=8)
+    ignore = None
+    if trim_ends:
+        v = run.vehicle
+        reach = v.overall_length_m + max(v.width_m, v.trailer.width_m if v.trailer else 0.0)
+        boxes = end_boxes(run.path, reach + offset_m + 1.0)
+        measured = shapely.difference(measured, boxes)
+        ignore = shapely.buffer(boxes, 1e-6, quad_segs=1)
+    clearance = classify(measured, areas, 0.0, run.reason, ignore=ignore)
+    return RunResult(run, swept, dataclasses.replace(clearance, offset_m=float(offset_m),
+                                                     reason=_grown(clearance, offset_m)))
 
 
 def evaluate_batch(

@@ -1,0 +1,132 @@
+"""Margins and verdicts on synthetic polygons, and a full run through a junction corner."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+import shapely
+
+from analysis.clearance import VERDICTS, Areas, classify, evaluate, evaluate_batch, signed_margin_m
+from analysis.tracking import simulate, simulate_batch
+from tests.analysis.helpers import bus, car, turn
+from vehicles.errors import InputError
+
+LANE = shapely.box(0.0, 0.0, 60.0, 3.5)
+ROADWAY = shapely.box(0.0, 0.0, 60.0, 7.0)
+PAVED = shapely.box(0.0, -0.5, 60.0, 7.5)
+
+
+def test_margin_inside_is_the_smallest_gap_to_the_boundary() -> None:
+    env = shapely.box(10.0, 1.0, 20.0, 2.9)
+    assert signed_margin_m(env, LANE) == pytest.approx(0.6)
+    assert signed_margin_m(env, ROADWAY) == pytest.approx(1.0)
+    assert signed_margin_m(env, PAVED) == pytest.approx(1.5)
+
+
+def test_margin_beyond_is_minus_the_deepest_overreach() -> None:
+    env = shapely.Polygon([(10, 1), (20, 1), (20, 4.3), (15, 4.3), (10, 3.0)])
+    assert signed_margin_m(env, LANE) == pytest.approx(-0.8, abs=1e-9)
+    # a tilted edge: the deepest point is the corner farthest from the lane
+    tilted = shapely.Polygon([(10, 1), (20, 1), (20, 3.9), (10, 4.6)])
+    assert signed_margin_m(tilted, LANE) == pytest.approx(-1.1, abs=1e-9)
+
+
+def test_margin_beyond_a_non_convex_area_uses_the_nearest_part() -> None:
+    # L-shaped lanes; the envelope sits in the notch, 3 m from both arms at its far corner
+    ell = shapely.difference(shapely.box(0, 0, 10, 10), shapely.box(5, 5, 10, 10))
+    env = shapely.box(6, 6, 8, 8)
+    assert signed_margin_m(env, ell) == pytest.approx(-3.0, abs=1e-9)
+    # a roundabout ring (hole = island): 0.5 m into the island
+    ring = shapely.difference(shapely.Point(0, 0).buffer(16, quad_segs=64),
+                              shapely.Point(0, 0).buffer(10, quad_segs=64))
+    env = shapely.box(-1.0, 9.5, 1.0, 13.0)
+    expected = 10.0 * math.cos(math.pi / 256) - 9.5  # polygonal circle, apothem at y axis
+    assert signed_margin_m(env, ring) == pytest.approx(-expected, abs=0.03)
+
+
+def test_verdicts_worst_first() -> None:
+    areas = Areas(LANE, PAVED, ROADWAY)
+    clear = classify(shapely.box(10, 0.8, 20, 2.7), areas)
+    enc = classify(shapely.box(10, 2.0, 20, 4.5), areas)
+    fails = classify(shapely.box(10, -1.0, 20, 1.0), areas)
+    cannot = classify(shapely.box(10, 0.8, 20, 2.7), areas, cannot_turn_reason="lock")
+    assert VERDICTS == ("cannot-turn", "fails", "encroaches", "clear")
+    assert (clear.verdict, enc.verdict, fails.verdict, cannot.verdict) == VERDICTS[::-1]
+    assert clear.margin_m == pytest.approx(0.8)
+    assert enc.margin_m == pytest.approx(-1.0) and enc.paved_margin_m == pytest.approx(2.5)
+    assert enc.roadway_margin_m == pytest.approx(2.0)
+    assert fails.paved_margin_m == pytest.approx(-0.5) and fails.margin_m == pytest.approx(-1.0)
+    assert cannot.reason == "lock" and cannot.margin_m == pytest.approx(0.8)
+
+
+def test_clearance_offset_grows_the_envelope_first() -> None:
+    areas = Areas(LANE, PAVED)
+    env = shapely.box(10, 0.8, 20, 2.7)
+    assert classify(env, areas, offset_m=0.5).margin_m == pytest.approx(0.3)
+    grown = classify(env, areas, offset_m=1.0)
+    assert grown.verdict == "encroaches" and grown.margin_m == pytest.approx(-0.2, abs=1e-9)
+    assert "grown by 1.00 m" in grown.reason
+    assert classify(env, areas, offset_m=1.4).verdict == "fails"  # 0.8 + 0.5 < 1.4
+
+
+def test_bad_areas_and_offsets_raise_input_errors() -> None:
+    bowtie = shapely.Polygon([(0, 0), (2, 2), (2, 0), (0, 2)])
+    with pytest.raises(InputError, match="own_lanes is not a valid polygon"):
+        Areas(bowtie, PAVED)
+    with pytest.raises(InputError, match="paved is empty"):
+        Areas(LANE, shapely.Polygon())
+    with pytest.raises(InputError, match="offset"):
+        classify(shapely.box(1, 1, 2, 2), Areas(LANE, PAVED), offset_m=-0.1)
+
+
+def _corner_areas(path: np.ndarray, lane_half_m: float, paved_half_m: float) -> Areas:
+    centre = shapely.LineString(path)
+    own = shapely.buffer(centre, lane_half_m, quad_segs=32, cap_style="flat")
+    paved = shapely.buffer(centre, paved_half_m, quad_segs=32, cap_style="flat")
+    return Areas(own, paved)
+
+
+def test_full_run_margin_equals_independent_overreach_of_the_lane() -> None:
+    path = turn(12.0, 90.0, lead_m=20.0, tail_m=20.0)
+    run = simulate(bus(), path)
+    areas = _corner_areas(path, 1.75, 8.0)
+    res = evaluate(run, areas)
+    assert res.verdict == "encroaches"
+    # independent: a lane is the centre line grown by 1.75 m, so a point lies beyond it by
+    # (its distance to the centre line - 1.75); the envelope's farthest boundary point
+    # between the path's end lines (x = -20 at the start, y = 32 at the end) decides
+    xy = shapely.get_coordinates(shapely.segmentize(res.swept.envelope, 0.05))
+    xy = xy[(xy[:, 0] >= -20.0) & (xy[:, 1] <= 32.0)]
+    beyond = shapely.distance(shapely.points(xy), shapely.LineString(path)) - 1.75
+    assert res.margin_m == pytest.approx(-float(beyond.max()), abs=0.03)
+    assert res.margin_m < -0.5  # a bus does not fit a 3.5 m lane round a 12 m corner
+
+
+def test_full_runs_classified_per_vehicle() -> None:
+    path = turn(12.0, 90.0, lead_m=20.0, tail_m=20.0)
+    tight = turn(4.0, 90.0, lead_m=20.0, tail_m=20.0)
+    runs = simulate_batch([car(), bus(), bus(), bus()], [path, path, path, tight])
+    wide = _corner_areas(path, 2.5, 8.0)
+    narrow = _corner_areas(path, 1.75, 2.5)
+    results = evaluate_batch(runs, [wide, wide, narrow, _corner_areas(tight, 3.5, 8.0)],
+                             offset_m=0.3)
+    assert [r.verdict for r in results] == ["clear", "encroaches", "fails", "cannot-turn"]
+    assert results[0].margin_m > 0 and results[1].margin_m < 0
+    assert results[2].clearance.paved_margin_m < 0
+    assert "left the centre line" in results[3].clearance.reason
+
+
+def test_full_run_gap_inside_the_lane_ignores_the_lane_ends() -> None:
+    path = turn(12.0, 90.0, lead_m=20.0, tail_m=20.0)
+    run = simulate(car(), path)
+    res = evaluate(run, _corner_areas(path, 2.5, 8.0), offset_m=0.3)
+    assert res.verdict == "clear"
+    # independent: the gap is 2.5 - 0.3 - (largest distance of the envelope from the centre
+    # line), over the envelope between the path's end lines
+    xy = shapely.get_coordinates(shapely.segmentize(res.swept.envelope, 0.05))
+    xy = xy[(xy[:, 0] >= -20.0) & (xy[:, 1] <= 32.0)]
+    widest = float(np.max(shapely.distance(shapely.points(xy), shapely.LineString(path))))
+    assert res.margin_m == pytest.approx(2.5 - 0.3 - widest, abs=0.03)
+    assert 0.3 < res.margin_m < 1.5
