@@ -16,7 +16,8 @@ Margins are signed distances between the envelope (grown by the clearance offset
 area: ``>= 0`` is the smallest gap between the envelope and the area's boundary when the
 envelope lies inside the area; ``< 0`` is minus how far the envelope reaches beyond it (the
 largest distance from the area of any point of the envelope outside it, evaluated on that
-outside part's boundary densified every ``densify_m``, so within ``densify_m / 2``).
+outside part's boundary densified every ``densify_m``, so within ``densify_m / 2``, or at
+the pole of inaccessibility of a piece the envelope covers whole, such as an island).
 ``margin_m`` is the margin to the own lanes, the one that decides between ``clear`` and
 ``encroaches``.
 
@@ -170,9 +171,18 @@ def signed_margin_m(
             if boundary.is_empty:
                 return math.inf
         return float(shapely.distance(envelope, boundary))
-    outside = shapely.difference(envelope, area)
-    pts = shapely.points(shapely.get_coordinates(shapely.segmentize(outside, densify_m)))
-    return -float(np.max(shapely.distance(pts, area)))
+    # the deepest point lies on the envelope's boundary beyond the area, or, where a piece
+    # beyond the area holds none of it (an island the envelope covers whole), at the
+    # piece's pole of inaccessibility
+    lines = shapely.difference(shapely.boundary(envelope), area)
+    coords = [shapely.get_coordinates(shapely.segmentize(lines, densify_m))]
+    pieces = shapely.get_parts(shapely.difference(envelope, area))
+    lone = pieces[~shapely.intersects(pieces, lines)] if not lines.is_empty else pieces
+    if len(lone):
+        circles = shapely.maximum_inscribed_circle(lone, densify_m)
+        coords.append(shapely.get_coordinates(shapely.get_point(circles, 0)))
+    pts = shapely.points(np.concatenate(coords))
+    return -float(np.max(shapely.distance(pts, area))) if len(pts) else 0.0
 
 
 @dataclass(frozen=True)

@@ -130,3 +130,10 @@ def test_full_run_gap_inside_the_lane_ignores_the_lane_ends() -> None:
     widest = float(np.max(shapely.distance(shapely.points(xy), shapely.LineString(path))))
     assert res.margin_m == pytest.approx(2.5 - 0.3 - widest, abs=0.03)
     assert 0.3 < res.margin_m < 1.5
+
+
+def test_margin_when_the_envelope_covers_an_island_whole() -> None:
+    # lanes round a 2 m x 6 m island; the envelope covers all of it: 1 m beyond at its middle
+    lanes = shapely.difference(shapely.box(0, 0, 20, 10), shapely.box(8, 2, 10, 8))
+    env = shapely.box(5, 1, 15, 9)
+    assert signed_margin_m(env, lanes) == pytest.approx(-1.0, abs=0.05)
