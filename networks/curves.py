@@ -20,7 +20,7 @@ Kinds and how they are found:
     ``ramp_min_grade_pct`` on each edge, that turns more than ``ramp_min_turn_deg`` in all
     and is tighter than ``bend_max_radius_m`` somewhere: a parking helix, a spiral ramp.
 ``bend``
-    A stretch of a plain lane (not part of a ramp) whose radius stays under
+    A stretch of a plain lane (not part of a ramp or a roundabout ring) whose radius stays under
     ``bend_max_radius_m`` while it turns at least ``bend_min_turn_deg``.
 """
 
@@ -367,8 +367,9 @@ def _follow_lanes(net: Network, lane_id: str, chain: list[str]) -> list[str] | N
 def find_bends(net: Network, opts: CurveOptions, skip_edges: set[str]) -> Iterable[Curve]:
     """Yield ``bend`` curves: tight curved stretches inside plain lanes."""
     min_turn = math.radians(opts.bend_min_turn_deg)
+    ring_edges = {e for r in net.roundabouts for e in r.edges}
     for edge_id in _plain_edges(net):
-        if edge_id in skip_edges:
+        if edge_id in skip_edges or edge_id in ring_edges:
             continue
         for lane_id in net.edges[edge_id].lanes:
             lane = net.lanes[lane_id]
