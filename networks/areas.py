@@ -4,9 +4,11 @@
     The curve's centre line buffered by half its lane width (flat ends): the lanes it
     drives on, trimmed to the part the centre line covers.
 ``roadway``
-    Everything a vehicle going the same way could use: all road lanes of the plain edges
-    the curve runs on, plus the internal lanes of every connection between consecutive
-    plain edges of the curve (the parallel lanes of the same movement), plus its own lanes.
+    Everything a vehicle going the same way could use: the curve's lanes, all road lanes
+    (admitting passenger cars, buses or trucks) of the plain edges it runs on, and the
+    internal road lanes of every connection between consecutive plain edges of the curve
+    (the parallel lanes of the same movement). A truck apron (a lane no road vehicle may
+    use) is paved but not roadway.
 ``paved``
     The roadway plus, for each junction the curve passes through, the junction polygon,
     all its internal lanes and every lane of the edges that meet there (sidewalks and
@@ -15,7 +17,9 @@
 
 Lane polygons are made once for the whole network with vectorised ``shapely.buffer``;
 areas shared by many curves (one junction's paved area serves all its turns) are unioned
-once, with ``shapely.union_all`` over rows of a padded array.
+once, with ``shapely.union_all`` over rows of an array, and the curves share the object.
+``own_lanes`` is a buffer of the centre line, so at lane joins it may stick out of the
+lane polygons of ``roadway`` by slivers of a few square centimetres.
 """
 
 from __future__ import annotations
@@ -167,7 +171,8 @@ def _roadway_lanes(net: Network, lanes: Sequence[str]) -> list[str]:
                 if c.to_edge == b and c.via:
                     via = c.via
                     while via and via in net.lanes and via not in out:
-                        out.append(via)
+                        if net.lanes[via].allows_road_vehicles():
+                            out.append(via)
                         nxt = net.outgoing(via)
                         via = nxt[0].via if nxt else None
     return list(dict.fromkeys(out))

@@ -32,6 +32,19 @@ COMMON_OPTIONS = (
     "--no-warnings",
 )
 
+#: Panels of each sample's plan figure: a title and (x min, x max, y min, y max) in metres.
+VIEWS: dict[str, list[tuple[str, tuple[float, float, float, float] | None]]] = {
+    "intersection": [
+        ("junction X (corners NE 12, SE 15, SW 20, NW 9.5 m)", (-45.0, 45.0, -45.0, 45.0)),
+        ("T-junction T (corners SW 4, SE 12 m)", (365.0, 435.0, -50.0, 20.0)),
+    ],
+    "roundabout": [
+        ("roundabout R (ICD 34 m, truck apron)", (-50.0, 50.0, -50.0, 50.0)),
+        ("compact roundabout C (ICD 26 m)", (250.0, 350.0, -50.0, 50.0)),
+    ],
+    "parking_ramp": [("helix: R 7.5 m, 3 m rise per turn, 2.25 turns", None)],
+}
+
 #: Extra options per sample.
 OPTIONS: dict[str, tuple[str, ...]] = {
     "intersection": (),
@@ -76,7 +89,7 @@ def main(argv: list[str] | None = None) -> int:
         if not args.no_figures:
             from networks.plot import save_plan
 
-            png = save_plan(net_path, net_path.with_suffix("").with_suffix(".png"))
+            png = save_plan(net_path, net_path.with_suffix("").with_suffix(".png"), VIEWS[name])
             print(f"drew {png}")
     return 0
 

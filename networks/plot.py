@@ -1,0 +1,129 @@
+"""Plan figures of networks, drawn from our own reader: lanes, junctions, scale, north."""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import numpy as np
+import shapely
+
+from networks.areas import lane_polygons
+from networks.reader import Network, read_network
+
+
+def nice_scale_m(span_m: float) -> float:
+    """A round scale-bar length of about a fifth of ``span_m`` (1, 2, 5 × 10^k metres).
+
+    Examples
+    --------
+    >>> nice_scale_m(100.0), nice_scale_m(37.0), nice_scale_m(0.0)
+    (20.0, 5.0, 1.0)
+    """
+    if span_m <= 0:
+        return 1.0
+    target = span_m / 5
+    base = 10 ** math.floor(math.log10(target))
+    for m in (5, 2, 1):
+        if m * base <= target:
+            return float(m * base)
+    return float(base)
+
+
+def _fill(ax, geom, **kw) -> None:
+    """Fill (multi)polygons, holes left open."""
+    from matplotlib.patches import PathPatch
+    from matplotlib.path import Path as MplPath
+
+    for poly in getattr(geom, "geoms", [geom]):
+        if poly.is_empty or poly.geom_type != "Polygon":
+            continue
+        rings = [np.asarray(poly.exterior.coords)[:, :2]]
+        rings += [np.asarray(r.coords)[:, :2] for r in poly.interiors]
+        path = MplPath.make_compound_path(*[MplPath(r, closed=True) for r in rings])
+        ax.add_patch(PathPatch(path, **kw))
+
+
+def plot_plan(
+    net: Network,
+    ax,
+    title: str | None = None,
+    bounds: tuple[float, float, float, float] | None = None,
+) -> None:
+    """Draw a network's plan on a matplotlib axis (metres, x east, y north).
+
+    ``bounds`` (x min, x max, y min, y max) zooms in; the default shows everything.
+    """
+    road = [k for k, lane in net.lanes.items() if lane.allows_road_vehicles()]
+    other = [k for k, lane in net.lanes.items() if not lane.allows_road_vehicles()]
+    for j in net.junctions.values():
+        if len(j.shape) >= 3:
+            ax.fill(j.shape[:, 0], j.shape[:, 1], color="#a8a8a8", lw=0, zorder=1)
+    for ids, colour in ((other, "#d9c27a"), (road, "#c8c8c8")):
+        for poly in lane_polygons(net, ids):
+            _fill(ax, shapely.make_valid(poly), color=colour, lw=0, zorder=2)
+    for k in road:
+        shape = net.lanes[k].shape
+        internal = net.lanes[k].function == "internal"
+        ax.plot(
+            shape[:, 0],
+            shape[:, 1],
+            color="#d62728" if internal else "#1f4e79",
+            lw=0.5 if internal else 0.8,
+            ls="--" if internal else "-",
+            zorder=3,
+        )
+    ax.set_aspect("equal")
+    if bounds is not None:
+        ax.set_xlim(bounds[0], bounds[1])
+        ax.set_ylim(bounds[2], bounds[3])
+    else:
+        ax.autoscale_view()
+    ax.set_xlabel("x [m] (east)")
+    ax.set_ylabel("y [m] (north)")
+    if title:
+        ax.set_title(title)
+    x0, x1 = ax.get_xlim()
+    y0, y1 = ax.get_ylim()
+    height = y1 - y0
+    bar = nice_scale_m(x1 - x0)
+    bx, by = x0 + 0.05 * (x1 - x0), y0 + 0.05 * height
+    ax.plot([bx, bx + bar], [by, by], color="black", lw=3, solid_capstyle="butt", zorder=5)
+    ax.text(bx + bar / 2, by + 0.015 * height, f"{bar:g} m", ha="center", va="bottom", fontsize=8)
+    nx, ny = x1 - 0.06 * (x1 - x0), y1 - 0.16 * height
+    ax.annotate(
+        "N",
+        xy=(nx, ny + 0.1 * height),
+        xytext=(nx, ny),
+        ha="center",
+        va="top",
+        fontsize=10,
+        fontweight="bold",
+        arrowprops={"arrowstyle": "-|>", "color": "black", "lw": 1.5},
+        zorder=5,
+    )
+
+
+def save_plan(
+    net_path: Path,
+    png_path: Path,
+    views: list[tuple[str, tuple[float, float, float, float] | None]] | None = None,
+) -> Path:
+    """Read a network and write its plan as a PNG, one panel per view (no GUI needed).
+
+    Each view is a title and bounds (x min, x max, y min, y max) or None for everything.
+    """
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    net = read_network(net_path)
+    views = views or [(Path(net_path).name, None)]
+    fig, axes = plt.subplots(1, len(views), figsize=(5.5 * len(views), 5.5), dpi=100, squeeze=False)
+    for ax, (title, bounds) in zip(axes[0], views, strict=True):
+        plot_plan(net, ax, title, bounds)
+    fig.tight_layout()
+    fig.savefig(png_path)
+    plt.close(fig)
+    return png_path
