@@ -33,7 +33,9 @@ Offtracking
     the path traced so far by the front-axle centre, looking back along that path by twice
     their current distance (so a later lap of a spiral does not count). The front-axle path
     is extended straight back from its start, because a run starts aligned and straight.
-    The maximum over the run is reported; in a steady turn it equals ``CTR - rho``.
+    The maximum over the run is reported; in a steady turn it equals ``CTR - rho``. (A
+    rear-steered vehicle's rear axle runs outside the front axle's path: the distance is
+    then outward, ``sqrt(R^2 + l^2) - R`` in a steady turn of front-axle radius ``R``.)
 Swept width
     At stations every ``width_step_m`` along the centre line (up to the front axle's last
     station), the length of the piece of the normal line through the centre-line point that
@@ -199,8 +201,14 @@ def sweep(
     behind_m: float,
     width_m: float,
     tolerance_m: float = DEFAULT_TOLERANCE_M,
+    axle_m: float = 0.0,
 ) -> BaseGeometry:
     """Area swept by a rectangle carried along sampled poses (see the module docstring).
+
+    The rectangle spans ``-behind_m .. ahead_m`` along the heading from the reference point
+    ``(x_m, y_m)`` and is cut at ``axle_m`` (the unsteered axle, on whose line the centre of
+    rotation lies: 0 for the rear axle of a front-steered unit, the wheelbase for a
+    rear-steered one).
 
     Examples
     --------
@@ -222,14 +230,14 @@ def sweep(
     """
     # vertices of both parts: the body's corners and the two ends of its axle line
     verts = body_corners(x_m, y_m, theta_rad, ahead_m, behind_m, width_m)
-    axle = body_corners(x_m, y_m, theta_rad, 0.0, 0.0, width_m)[:, 1:3]
+    axle = body_corners(x_m, y_m, theta_rad, axle_m, -axle_m, width_m)[:, 1:3]
     pts = np.concatenate([verts, axle], axis=1)
     keys = key_samples(pts[..., 0], pts[..., 1], tolerance_m)
     xs, ys, ths = x_m[keys], y_m[keys], theta_rad[keys]
     if len(keys) == 1:
         return shapely.polygons(body_corners(xs, ys, ths, ahead_m, behind_m, width_m)[0])
     pieces = []
-    for ahead, behind in ((ahead_m, 0.0), (0.0, behind_m)):
+    for ahead, behind in ((ahead_m, -axle_m), (axle_m, behind_m)):
         if ahead + behind <= 0:
             continue
         corners = body_corners(xs, ys, ths, ahead, behind, width_m)
@@ -274,7 +282,7 @@ def _offtracking(
     lo = np.searchsorted(arc, arc[idx] - (2.0 * gap + 1.0), side="right") - 1
     lo = np.clip(lo, 0, idx - 1)
     width = int((idx - lo).max())
-    c = max(1, math.ceil(width / 40))
+    c = max(1, round(math.sqrt(width / 3.0)))  # balances the coarse and the fine pass
     # coarse pass: chords between every c-th point, clipped to the current sample
     n_coarse = math.ceil(width / c) + 1
     start = (lo // c) * c
@@ -411,7 +419,7 @@ def swept_path(
     v, tr = run.vehicle, run.trajectory
     wb = v.wheelbase_m
     tractor = sweep(tr.x_m, tr.y_m, tr.theta_rad, wb + v.front_overhang_m, v.rear_overhang_m,
-                    v.width_m, tolerance_m)
+                    v.width_m, tolerance_m, axle_m=wb if v.steered_axle == "rear" else 0.0)
     trailer_area = None
     theta0 = float(tr.theta_rad[0])
     off = _offtracking(tr.xf_m, tr.yf_m, tr.x_m, tr.y_m, theta0)

@@ -20,18 +20,32 @@ Runs, speed and ending
 ----------------------
 The vehicle starts with its front axle on the path's first point, heading along the path,
 steering straight, trailer in line. The speed profile gives the front axle's speed; the rear
-axle moves at ``v_f cos(phi)``. A run ends when the front axle's projection reaches the end
-of the path (the last step is shortened to land on it), when the lateral error exceeds
-``abort_factor * tolerance_m`` (no point driving on), when the trailer's articulation exceeds
-its maximum (jackknife), or after ``max_steps`` steps, bounded by the path length in every
-case.
+axle of a front-steered vehicle moves at ``v_f cos(phi)``. A run ends when the front axle's
+projection reaches the end of the path (the last step is shortened to land on it), when the
+lateral error exceeds ``abort_factor * tolerance_m`` (no point driving on), when the
+trailer's articulation exceeds its maximum (jackknife), or after ``max_steps`` steps, bounded
+by the path length in every case.
 
 Verdict of the tracking: a run is *followed* when it reached the end, its largest lateral
 error stayed within ``tolerance_m`` and no jackknife occurred; otherwise the curve is
 ``cannot-turn`` for that vehicle and ``reason`` says why.
 
-Rear-steered vehicles are refused with an :class:`~vehicles.errors.InputError`: the
-controller and the trailer equation assume the reference (rear) axle is unsteered.
+Rear-steered vehicles
+---------------------
+The kinematics always integrate the *unsteered* axle's centre (the reference point, on
+whose line the centre of rotation lies): ``theta' = (v / l) tan(phi)`` with ``v`` that
+axle's speed and ``phi`` the bicycle-equivalent angle, left turns positive (for a rear
+steered axle the wheels then point to the right). For a rear-steered vehicle the front axle
+is that reference point, it still is the steering point that follows the centre line, and
+its velocity lies along the body, so the Stanley law does not apply; a curvature law on
+the front axle does (path curvature feed-forward, heading and lateral feedback, critically
+damped over ``L = v_f / k`` of travel)::
+
+    kappa_cmd = kappa_path cos(theta_e) / (1 - kappa_path e) - 2 theta_e / L - e / L^2
+    phi_cmd = atan(l kappa_cmd),    theta_e = theta - theta_path
+
+Its rear swings out: the rear axle runs outside the front axle's path. A rear-steered
+vehicle with a trailer is refused (the hitch would slide sideways with the steered axle).
 
 Batches
 -------
@@ -232,11 +246,12 @@ def check_vehicle(vehicle: Vehicle) -> None:
     True
     """
     name = f"vehicle {vehicle.name!r}"
-    if vehicle.steered_axle != "front":
-        raise InputError(
-            f"{name}: steered_axle {vehicle.steered_axle!r} is not supported by the path "
-            "tracker; it models a steered front axle with an unsteered rear reference axle"
-        )
+    if vehicle.steered_axle not in ("front", "rear"):
+        raise InputError(f"{name}: steered_axle must be 'front' or 'rear', "
+                         f"got {vehicle.steered_axle!r}")
+    if vehicle.steered_axle == "rear" and vehicle.trailer is not None:
+        raise InputError(f"{name}: a rear-steered vehicle towing a trailer is not supported "
+                         "(its hitch would slide sideways with the steered axle)")
     checks = [
         ("wheelbase_m", vehicle.wheelbase_m, lambda v: v > 0),
         ("track_m", vehicle.track_m, lambda v: v >= 0),
@@ -364,18 +379,22 @@ def simulate(
     return simulate_batch([vehicle], [path], settings)[0]
 
 
-def _pad(paths: list[Path]) -> tuple[FloatArray, FloatArray, FloatArray, NDArray[np.intp]]:
+def _pad(
+    paths: list[Path],
+) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray, NDArray[np.intp]]:
     n_pts = np.array([len(p.xy) for p in paths], dtype=np.intp)
     m = int(n_pts.max())
     xy = np.empty((len(paths), m, 2))
     station = np.empty((len(paths), m))
     heading = np.empty((len(paths), m))
+    curvature = np.zeros((len(paths), m))
     for i, p in enumerate(paths):
         k = n_pts[i]
         xy[i, :k], xy[i, k:] = p.xy, p.xy[-1]
         station[i, :k], station[i, k:] = p.station_m, p.station_m[-1] + np.arange(1, m - k + 1)
         heading[i, :k], heading[i, k:] = p.heading_rad, p.heading_rad[-1]
-    return xy, station, heading, n_pts
+        curvature[i, :k] = p.curvature_1_m
+    return xy, station, heading, curvature, n_pts
 
 
 def _run(vehicles: list[Vehicle], paths: list[Path], st: TrackingSettings) -> list[TrackingRun]:
@@ -389,7 +408,11 @@ def _run(vehicles: list[Vehicle], paths: list[Path], st: TrackingSettings) -> li
     lt = np.array([v.trailer.wheelbase_m if v.trailer else 1.0 for v in vehicles])
     psi_max = np.array([v.trailer.max_articulation_rad if v.trailer else np.inf
                         for v in vehicles])
-    xy, station, heading, n_pts = _pad(paths)
+    rear_steer = np.array([v.steered_axle == "rear" for v in vehicles])
+    any_rear = bool(rear_steer.any())
+    # the reference point is the unsteered axle's centre; the front axle is `ahead` of it
+    ahead = np.where(rear_steer, 0.0, wb)
+    xy, station, heading, curvature, n_pts = _pad(paths)
     length = np.array([p.length_m for p in paths])
     spacing = np.array([p.spacing_m for p in paths])
     profile, dt = st.profile, st.dt_s
@@ -401,8 +424,8 @@ def _run(vehicles: list[Vehicle], paths: list[Path], st: TrackingSettings) -> li
     abort_m = st.abort_factor * st.tolerance_m
 
     th = heading[:, 0].copy()
-    x = xy[:, 0, 0] - wb * np.cos(th)
-    y = xy[:, 0, 1] - wb * np.sin(th)
+    x = xy[:, 0, 0] - ahead * np.cos(th)
+    y = xy[:, 0, 1] - ahead * np.sin(th)
     phi = np.zeros(n)
     psi = np.zeros(n)
     t = np.zeros(n)
@@ -419,20 +442,28 @@ def _run(vehicles: list[Vehicle], paths: list[Path], st: TrackingSettings) -> li
     rec = np.full((9, max_steps + 1, n), np.nan)  # t s x y th phi err v psi
     for k in range(max_steps + 1):
         live = ~done
-        xf = x + wb * np.cos(th)
-        yf = y + wb * np.sin(th)
+        xf = x + ahead * np.cos(th)
+        yf = y + ahead * np.sin(th)
         seg, along, err = project_window(xf, yf, xy, n_pts, seg, window)
         s_f = station[rows, seg] + along
         v_f = profile.speed(s_f, t)
         seg_len = station[rows, seg + 1] - station[rows, seg]
         frac = np.clip(along / seg_len, 0.0, 1.0)
         th_path = heading[rows, seg] + frac * (heading[rows, seg + 1] - heading[rows, seg])
-        heading_err = np.angle(np.exp(1j * (th_path - th)))
+        heading_err = (th_path - th + np.pi) % (2 * np.pi) - np.pi
         cmd = heading_err - np.arctan(st.gain_1_s * err / (v_f + SOFT_SPEED_M_S))
+        if any_rear:
+            k_path = curvature[rows, seg] + frac * (curvature[rows, seg + 1]
+                                                    - curvature[rows, seg])
+            settle = np.maximum((v_f + SOFT_SPEED_M_S) / st.gain_1_s, wb)
+            k_cmd = (k_path * np.cos(heading_err) / np.maximum(1.0 - k_path * err, 0.1)
+                     + 2.0 * heading_err / settle - err / settle**2)
+            cmd = np.where(rear_steer, np.arctan(wb * k_cmd), cmd)
         cmd = np.clip(cmd, -MAX_COMMAND_RAD, MAX_COMMAND_RAD)
         new_phi = limit_steering(phi, cmd, lock, rate, dt)
 
-        rec[:, k, live] = np.stack([t, s_f, x, y, th, new_phi, err, v_f, psi])[:, live]
+        # finished runs are frozen; what is written past their count is never read
+        rec[:, k, :] = (t, s_f, x, y, th, new_phi, err, v_f, psi)
         count[live] += 1
         at_end = live & (finishing | (s_f >= length - 1e-9))
         reached |= at_end
@@ -449,7 +480,8 @@ def _run(vehicles: list[Vehicle], paths: list[Path], st: TrackingSettings) -> li
         remaining = length - s_f
         step_dt = np.where(remaining < v_f * dt, np.maximum(remaining, 0.0) / v_f, dt)
         finishing |= live & (remaining < v_f * dt)
-        ds_r = np.where(live, v_f * np.cos(phi) * step_dt, 0.0)
+        v_ref = np.where(rear_steer, v_f, v_f * np.cos(phi))
+        ds_r = np.where(live, v_ref * step_dt, 0.0)
         x, y, th = arc_step(x, y, th, 1.0, phi, wb, ds_r)
         if has_tr.any():
             new_psi = advance_articulation(psi, np.tan(phi) / wb, ds_r, e, lt,
@@ -483,6 +515,11 @@ def _collect(
 ) -> TrackingRun:
     t, s, x, y, th, phi, err, v, psi = (np.ascontiguousarray(r) for r in rec)
     wb = vehicle.wheelbase_m
+    xf, yf = x, y
+    if vehicle.steered_axle == "rear":  # the state is the front axle's: rear axle behind it
+        x, y = xf - wb * np.cos(th), yf - wb * np.sin(th)
+    else:
+        xf, yf = x + wb * np.cos(th), y + wb * np.sin(th)
     trailer = vehicle.trailer
     extra = {}
     jackknifed = not math.isnan(jack_t)
@@ -493,8 +530,7 @@ def _collect(
         xt, yt = trailer_axle_point(x, y, th, theta_t, trailer.hitch_offset_m,
                                     trailer.wheelbase_m)
         extra = dict(xt_m=xt, yt_m=yt, theta_t_rad=theta_t, psi_rad=psi)
-    traj = Trajectory(t, s, x, y, th, phi, x + wb * np.cos(th), y + wb * np.sin(th), err, v,
-                      **extra)
+    traj = Trajectory(t, s, x, y, th, phi, xf, yf, err, v, **extra)
     max_err = float(np.max(np.abs(err))) if len(err) else 0.0
     reasons = []
     if max_err > st.tolerance_m:

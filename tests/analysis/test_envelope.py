@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import numpy as np
@@ -128,3 +129,24 @@ def test_semitrailer_offtracking_reaches_its_closed_form() -> None:
     assert sp.trailer_offtracking_m[-1] == pytest.approx(radius - r_t, rel=0.01)
     assert sp.max_trailer_offtracking_m == pytest.approx(radius - r_t, rel=0.01)
     assert set(sp.wheel_tracks) >= {"trailer_left", "trailer_right"}
+
+
+def test_rear_steered_swept_width_and_outswing_in_steady_state() -> None:
+    v = dataclasses.replace(bus(), name="rear-steer", steered_axle="rear")
+    radius = 15.0
+    run = simulate(v, turn(radius, 270.0, lead_m=5.0, tail_m=0.0))
+    assert run.followed
+    sp = swept_path(run)
+    half_b = v.width_m / 2
+    # centre of rotation on the front axle line at R: the rear outer corner is outermost,
+    # the inner side at the front axle innermost
+    width = math.hypot(radius + half_b, v.wheelbase_m + v.rear_overhang_m) - (radius - half_b)
+    # late on the arc (the entry transient, where the steering rate makes the front axle
+    # run wide and the tail swing out further, is over), but not in the last 50 degrees,
+    # where the tail, which trails the front axle, has not yet swept
+    station = sp.swept_width_m[:, 0] - 5.0
+    late = (station > radius * math.radians(150.0)) & (station < radius * math.radians(220.0))
+    assert np.allclose(sp.swept_width_m[late, 1], width, rtol=0.01)
+    late = run.trajectory.s_m > 5.0 + radius * math.radians(200.0)
+    outswing = math.hypot(radius, v.wheelbase_m) - radius
+    assert np.allclose(sp.offtracking_m[late], outswing, rtol=0.01)

@@ -145,9 +145,12 @@ def test_speed_profile_by_station_slows_the_run() -> None:
 
 
 def test_bad_input_is_refused_with_names() -> None:
-    rear = dataclasses.replace(car(), steered_axle="rear")
+    odd = dataclasses.replace(car(), steered_axle="middle")
     with pytest.raises(InputError, match="'car'.*steered_axle"):
-        simulate(rear, turn(10.0, 90.0))
+        simulate(odd, turn(10.0, 90.0))
+    rear_semi = dataclasses.replace(semi(), steered_axle="rear")
+    with pytest.raises(InputError, match="'semi'.*rear-steered.*trailer"):
+        simulate(rear_semi, turn(10.0, 90.0))
     with pytest.raises(InputError, match="wheelbase_m"):
         simulate(dataclasses.replace(car(), wheelbase_m=-1.0), turn(10.0, 90.0))
     with pytest.raises(InputError, match="path 0.*not finite"):
@@ -156,3 +159,22 @@ def test_bad_input_is_refused_with_names() -> None:
         simulate_batch([car(), car()], [turn(10, 9), turn(10, 9), turn(10, 9)])
     with pytest.raises(InputError, match="tolerance_m"):
         TrackingSettings(tolerance_m=0.0)
+
+
+def test_rear_steered_vehicle_follows_with_its_front_axle_and_swings_out() -> None:
+    v = dataclasses.replace(car(), name="forklift", steered_axle="rear")
+    radius = 9.0
+    left, right = simulate_batch([v, v], [turn(radius, 360.0, lead_m=5.0, tail_m=5.0),
+                                          turn(radius, 360.0, lead_m=5.0, tail_m=5.0,
+                                               left=False)])
+    tr = left.trajectory
+    assert left.followed and left.max_error_m < 0.05
+    arc_end = 5.0 + radius * math.radians(360.0)
+    late = (tr.s_m > arc_end - 15.0) & (tr.s_m < arc_end - 1.0)
+    # the unsteered front axle turns about a centre on its own line: rho = R, phi = atan(l/R)
+    assert np.median(tr.phi_rad[late]) == pytest.approx(math.atan(v.wheelbase_m / radius),
+                                                        rel=2e-3)
+    # the rear axle runs outside, on sqrt(R^2 + l^2)
+    r_rear = np.hypot(tr.x_m[late], tr.y_m[late] - radius)
+    assert np.allclose(r_rear, math.hypot(radius, v.wheelbase_m), rtol=2e-3)
+    assert np.allclose(tr.phi_rad, -right.trajectory.phi_rad, atol=1e-9)
