@@ -245,6 +245,13 @@ def fit_circle(x: ArrayLike, y: ArrayLike) -> tuple[float, float, float]:
     >>> a = np.linspace(0.0, 1.0, 5)
     >>> [round(v, 9) for v in fit_circle(1 + 2 * np.cos(a), -1 + 2 * np.sin(a))]
     [1.0, -1.0, 2.0]
+
+    Points on a straight line have no circle:
+
+    >>> fit_circle([0.0, 1.0, 2.0], [1.0, 3.0, 5.0])
+    Traceback (most recent call last):
+    ...
+    vehicles.errors.InputError: fit_circle: the points are (nearly) collinear; no finite circle
     """
     xs = np.asarray(x, dtype=float).ravel()
     ys = np.asarray(y, dtype=float).ravel()
@@ -252,6 +259,9 @@ def fit_circle(x: ArrayLike, y: ArrayLike) -> tuple[float, float, float]:
         raise InputError("fit_circle: needs at least three (x, y) points of equal count")
     mx, my = xs.mean(), ys.mean()
     u, w = xs - mx, ys - my
+    spread = np.linalg.svd(np.stack([u, w], axis=1), compute_uv=False)
+    if spread[0] == 0 or spread[1] <= 1e-9 * spread[0]:
+        raise InputError("fit_circle: the points are (nearly) collinear; no finite circle")
     a = np.stack([u, w, np.ones_like(u)], axis=1)
     b = -(u * u + w * w)
     (d, e, f), *_ = np.linalg.lstsq(a, b, rcond=None)
