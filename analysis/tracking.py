@@ -106,7 +106,7 @@ class TrackingSettings:
         RK4 sub-steps of the articulation per time step.
     max_steps
         Hard cap on the number of steps; ``None`` derives one from the longest path and the
-        lowest speed (three times the steps the path needs, plus 50).
+        lowest speed (twice the steps the path needs, plus 50).
 
     Examples
     --------
@@ -420,7 +420,7 @@ def _run(vehicles: list[Vehicle], paths: list[Path], st: TrackingSettings) -> li
     if st.max_steps is not None:
         max_steps = st.max_steps
     else:
-        max_steps = 3 * math.ceil(float(length.max()) / (profile.min_speed_m_s * dt)) + 50
+        max_steps = 2 * math.ceil(float(length.max()) / (profile.min_speed_m_s * dt)) + 50
     abort_m = st.abort_factor * st.tolerance_m
 
     th = heading[:, 0].copy()
