@@ -2,10 +2,12 @@
 
 A centre line arrives as an ``(N, 2)`` or ``(N, 3)`` polyline in metres (SUMO plane
 coordinates). :func:`prepare_path` resamples it at a uniform spacing and gives every sample
-a smooth heading: at each input vertex the tangent of the circle through it and its two
-neighbours (the chord headings weighted by the opposite chord lengths), interpolated
-linearly in arc length between vertices. For a polyline sampled from a circle this is the
-circle's exact tangent, so a vehicle tracking it sees the true curve, not the chords.
+a continuous heading: each segment keeps its own heading at its middle, and the turn at a
+vertex is spread linearly over the arc length ``+-r`` around it, ``r`` half the shorter of
+the two segments there. For a polyline sampled evenly from a circle this is the circle's
+exact tangent everywhere (the chord's heading is the tangent at its middle), so a vehicle
+tracking it sees the true curve, not the chords; a long straight stays straight up to
+``r`` before the next vertex, instead of starting to turn at its far end.
 
 :func:`project_window` projects one point per path onto its path, searching only a few
 segments around the previous match (a vehicle moves a bounded distance per step), which
@@ -147,19 +149,21 @@ def prepare_path(
     if np.any(turn > math.radians(179.0)):
         bad = int(np.flatnonzero(turn > math.radians(179.0))[0]) + 1
         raise InputError(f"{name}: centre line turns back on itself at point {bad}")
-    vert_heading = np.empty(len(pts))
-    vert_heading[0], vert_heading[-1] = seg_heading[0], seg_heading[-1]
-    c1, c2 = seg_len[:-1], seg_len[1:]
-    vert_heading[1:-1] = (c2 * seg_heading[:-1] + c1 * seg_heading[1:]) / (c1 + c2)
     vert_station = np.concatenate([[0.0], np.cumsum(seg_len)])
     length = float(vert_station[-1])
+    # heading breakpoints: the turn at interior vertex v ramps over S_v -+ r_v
+    r = 0.5 * np.minimum(seg_len[:-1], seg_len[1:])
+    ramp_s = np.stack([vert_station[1:-1] - r, vert_station[1:-1] + r], axis=1).ravel()
+    ramp_h = np.stack([seg_heading[:-1], seg_heading[1:]], axis=1).ravel()
+    brk_s = np.concatenate([[0.0], ramp_s, [length]])
+    brk_h = np.concatenate([[seg_heading[0]], ramp_h, [seg_heading[-1]]])
     n = max(2, math.ceil(length / spacing_m - 1e-9) + 1)
     station = np.minimum(np.arange(n) * spacing_m, length)
     station[-1] = length
     xy = np.stack([np.interp(station, vert_station, pts[:, 0]),
                    np.interp(station, vert_station, pts[:, 1])], axis=1)
     z = np.interp(station, vert_station, pts[:, 2]) if pts.shape[1] == 3 else None
-    heading = np.interp(station, vert_station, vert_heading)
+    heading = np.interp(station, brk_s, brk_h)
     curvature = np.gradient(heading, station) if n > 2 else np.zeros(n)
     return Path(name, xy, z, station, heading, curvature, float(spacing_m), length)
 

@@ -168,7 +168,7 @@ def test_rear_steered_vehicle_follows_with_its_front_axle_and_swings_out() -> No
                                           turn(radius, 360.0, lead_m=5.0, tail_m=5.0,
                                                left=False)])
     tr = left.trajectory
-    assert left.followed and left.max_error_m < 0.05
+    assert left.followed and left.max_error_m < 0.1
     arc_end = 5.0 + radius * math.radians(360.0)
     late = (tr.s_m > arc_end - 15.0) & (tr.s_m < arc_end - 1.0)
     # the unsteered front axle turns about a centre on its own line: rho = R, phi = atan(l/R)
