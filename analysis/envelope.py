@@ -7,7 +7,8 @@ Body rectangles
     and ``+-B/2`` across; a trailer spans ``-a_r,t .. l_t + a_f,t`` from its axle centre
     (its nose ``a_f,t`` ahead of the hitch) and ``+-B_t/2``.
 Swept envelope
-    The body is cut at its axle into a front and a rear part. Between consecutive *key*
+    The body is cut at its unsteered axle (the rear axle; the front axle of a rear-steered
+    vehicle; a trailer's axle) into a front and a rear part. Between consecutive *key*
     samples each part's sweep is taken as the convex hull of its two positions; the
     envelope is the union of these hulls. The instantaneous centre of rotation of a unit
     lies on its axle line, so each part's point nearest to it is an axle-line corner, whose
@@ -41,7 +42,10 @@ Swept width
     station), the length of the piece of the normal line through the centre-line point that
     lies inside the envelope and contains that point. The maximum over the stations is
     reported; in a steady turn it equals
-    ``sqrt((rho + B/2)^2 + (l + a_f)^2) - (rho - B/2)`` (DESIGN.md section 4).
+    ``sqrt((rho + B/2)^2 + (l + a_f)^2) - (rho - B/2)`` (DESIGN.md section 4). Where the
+    envelope overlaps itself across a normal (a path that comes back near itself), the
+    overlapping part counts too; near the path's end the parts of the body that trail the
+    front axle have not swept yet, so the widths there are partial.
 """
 
 from __future__ import annotations
