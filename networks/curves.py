@@ -28,7 +28,7 @@ from __future__ import annotations
 
 import logging
 import math
-from collections.abc import Iterable
+from collections.abc import Iterable, Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -42,7 +42,8 @@ from networks.geometry import (
     radius_from_curvature,
     unwrap,
 )
-from networks.paths import Path, build_path, junction_of_internal, via_lanes
+from networks.paths import PathPlan, junction_of_internal, plan_path, realise, via_lanes
+from networks.profiles import profiles
 from networks.reader import Network
 from vehicles.errors import InputError
 
@@ -132,53 +133,62 @@ class CurveOptions:
     ramp_min_turn_deg: float = 90.0
 
 
-def make_curve(
-    net: Network, curve_id: str, kind: str, junction: str, path: Path, opts: CurveOptions
-) -> Curve:
-    """Measure a path: radius profile, turn angle, grades and width of its core."""
-    line = path.centerline
-    a, b = path.core_start_m, path.core_end_m
-    s, k = curvature_profile(line, opts.step_m, opts.window_m, a - opts.window_m, b + opts.window_m)
-    radius = radius_from_curvature(k)
-    inside = (s >= a - 1e-9) & (s <= b + 1e-9)
-    min_r = float(radius[inside].min()) if inside.any() else math.inf
-    turn = _turn_deg(line, a, b)
-    g, dg = grades_pct(line, a - opts.grade_window_m, b + opts.grade_window_m, opts.grade_window_m)
-    widths = [net.lanes[x].width_m for x in path.core_lanes] or [
-        net.lanes[x].width_m for x in path.lanes
-    ]
-    return Curve(
-        curve_id=curve_id,
-        kind=kind,
-        junction=junction,
-        lanes=path.lanes,
-        core_lanes=path.core_lanes,
-        centerline=line,
-        core_start_m=a,
-        core_end_m=b,
-        profile_s_m=s,
-        profile_radius_m=radius,
-        min_radius_m=min_r,
-        turn_angle_deg=turn,
-        length_m=b - a,
-        lane_width_m=float(min(widths)),
-        max_grade_pct=g,
-        max_grade_change_pct=dg,
+#: A curve found but not measured yet: id, kind, junction, planned path.
+Item = tuple[str, str, str, PathPlan]
+
+
+def measure(net: Network, items: Sequence[Item], opts: CurveOptions) -> list[Curve]:
+    """Measure paths in one batch: radius profile, turn angle, grades, width of the core."""
+    if not items:
+        return []
+    paths = realise(net, [it[3] for it in items])
+    prof = profiles(
+        [p.centerline for p in paths],
+        [p.core_start_m for p in paths],
+        [p.core_end_m for p in paths],
+        opts.step_m,
+        opts.window_m,
     )
+    curves = []
+    w = opts.grade_window_m
+    for n, ((cid, kind, junction, _), path) in enumerate(zip(items, paths, strict=True)):
+        line = path.centerline
+        a, b = path.core_start_m, path.core_end_m
+        z = line[:, 2]
+        if z.min() == z.max():
+            g = dg = 0.0
+        else:
+            g, dg = grades_pct(line, a - w, b + w, w)
+        lanes = net.lanes
+        width = min(lanes[x].width_m for x in (path.core_lanes or path.lanes))
+        curves.append(
+            Curve(
+                curve_id=cid,
+                kind=kind,
+                junction=junction,
+                lanes=path.lanes,
+                core_lanes=path.core_lanes,
+                centerline=line,
+                core_start_m=a,
+                core_end_m=b,
+                profile_s_m=prof.s_m[n],
+                profile_radius_m=prof.radius_m[n],
+                min_radius_m=float(prof.min_radius_m[n]),
+                turn_angle_deg=float(prof.turn_deg[n]),
+                length_m=b - a,
+                lane_width_m=float(width),
+                max_grade_pct=g,
+                max_grade_change_pct=dg,
+            )
+        )
+    return curves
 
 
-def _turn_deg(line: np.ndarray, a: float, b: float) -> float:
-    """Heading change from the chord that enters the core to the chord that leaves it."""
-    pts = clean_polyline(line)
-    if len(pts) < 3:
-        return 0.0
-    s = arc_length(pts)
-    d = pts[1:, :2] - pts[:-1, :2]
-    h = unwrap(np.arctan2(d[:, 1], d[:, 0]))
-    # the chord that ends where the core starts, the chord that starts where it ends
-    i = int(np.clip(np.searchsorted(s, a - 1e-6, side="left") - 1, 0, len(h) - 1))
-    j = int(np.clip(np.searchsorted(s, b + 1e-6, side="right") - 1, 0, len(h) - 1))
-    return float(np.degrees(h[j] - h[i]))
+def make_curve(
+    net: Network, curve_id: str, kind: str, junction: str, path: PathPlan, opts: CurveOptions
+) -> Curve:
+    """Measure one path (see :func:`measure`)."""
+    return measure(net, [(curve_id, kind, junction, path)], opts)[0]
 
 
 def _road_lane(net: Network, lane_id: str) -> bool:
@@ -186,7 +196,7 @@ def _road_lane(net: Network, lane_id: str) -> bool:
     return lane is not None and lane.allows_road_vehicles()
 
 
-def find_turns(net: Network, opts: CurveOptions) -> Iterable[Curve]:
+def find_turns(net: Network, opts: CurveOptions) -> Iterable[Item]:
     """Yield one ``turn`` per connection through a junction's internal lanes."""
     if not net.has_internal_lanes:
         log.warning(
@@ -212,14 +222,13 @@ def find_turns(net: Network, opts: CurveOptions) -> Iterable[Curve]:
         junction = junction_of_internal(vias[0])
         if junction in ring_nodes:
             continue
-        path = build_path(
+        path = plan_path(
             net, [from_lane], vias, [to_lane], opts.approach_length_m, opts.approach_length_m
         )
-        cid = f"turn:{junction}:{from_lane}->{to_lane}"
-        yield make_curve(net, cid, "turn", junction, path, opts)
+        yield (f"turn:{junction}:{from_lane}->{to_lane}", "turn", junction, path)
 
 
-def find_roundabouts(net: Network, opts: CurveOptions) -> Iterable[Curve]:
+def find_roundabouts(net: Network, opts: CurveOptions) -> Iterable[Item]:
     """Yield one ``roundabout`` curve per entry edge → exit edge of each ring."""
     import heapq
 
@@ -268,7 +277,7 @@ def find_roundabouts(net: Network, opts: CurveOptions) -> Iterable[Curve]:
                     if key not in best or dist < best[key][0]:
                         best[key] = (dist, [conn.from_lane, *core, nxt.to_lane], entry_node)
         for (_, _), (_, lanes, entry_node) in sorted(best.items()):
-            path = build_path(
+            path = plan_path(
                 net,
                 [lanes[0]],
                 lanes[1:-1],
@@ -277,7 +286,7 @@ def find_roundabouts(net: Network, opts: CurveOptions) -> Iterable[Curve]:
                 opts.approach_length_m,
             )
             cid = f"roundabout:{entry_node}:{lanes[0]}->{lanes[-1]}"
-            yield make_curve(net, cid, "roundabout", entry_node, path, opts)
+            yield (cid, "roundabout", entry_node, path)
 
 
 def _edge_grade_pct(net: Network, edge_id: str) -> float:
@@ -331,7 +340,7 @@ def find_ramps(net: Network, opts: CurveOptions) -> tuple[list[Curve], set[str]]
             lanes = _follow_lanes(net, lane_id, chain)
             if lanes is None:
                 continue
-            path = build_path(net, [], lanes, [], opts.approach_length_m, opts.approach_length_m)
+            path = plan_path(net, [], lanes, [], opts.approach_length_m, opts.approach_length_m)
             curve = make_curve(
                 net,
                 f"ramp:{lanes[0]}->{lanes[-1]}",
@@ -364,7 +373,7 @@ def _follow_lanes(net: Network, lane_id: str, chain: list[str]) -> list[str] | N
     return lanes
 
 
-def find_bends(net: Network, opts: CurveOptions, skip_edges: set[str]) -> Iterable[Curve]:
+def find_bends(net: Network, opts: CurveOptions, skip_edges: set[str]) -> Iterable[Item]:
     """Yield ``bend`` curves: tight curved stretches inside plain lanes."""
     min_turn = math.radians(opts.bend_min_turn_deg)
     ring_edges = {e for r in net.roundabouts for e in r.edges}
@@ -384,7 +393,7 @@ def find_bends(net: Network, opts: CurveOptions, skip_edges: set[str]) -> Iterab
                 continue
             s, k = curvature_profile(pts, opts.step_m, opts.window_m)
             for n, (i, j) in enumerate(_bend_runs(s, k, opts)):
-                path = build_path(
+                path = plan_path(
                     net,
                     [],
                     [lane_id],
@@ -395,7 +404,7 @@ def find_bends(net: Network, opts: CurveOptions, skip_edges: set[str]) -> Iterab
                     float(s[j - 1]),
                 )
                 junction = net.edges[edge_id].from_junction
-                yield make_curve(net, f"bend:{lane_id}:{n}", "bend", junction, path, opts)
+                yield (f"bend:{lane_id}:{n}", "bend", junction, path)
 
 
 def _bend_runs(s: np.ndarray, k: np.ndarray, opts: CurveOptions) -> list[tuple[int, int]]:
@@ -458,16 +467,16 @@ def extract_curves(
     opts = options or CurveOptions()
     curves: list[Curve] = []
     if "turn" in wanted:
-        curves.extend(find_turns(net, opts))
+        curves.extend(measure(net, list(find_turns(net, opts)), opts))
     if "roundabout" in wanted:
-        curves.extend(find_roundabouts(net, opts))
+        curves.extend(measure(net, list(find_roundabouts(net, opts)), opts))
     ramp_edges: set[str] = set()
     if "ramp" in wanted or "bend" in wanted:
         ramps, ramp_edges = find_ramps(net, opts)
         if "ramp" in wanted:
             curves.extend(ramps)
     if "bend" in wanted:
-        curves.extend(find_bends(net, opts, ramp_edges))
+        curves.extend(measure(net, list(find_bends(net, opts, ramp_edges)), opts))
     order = {k: i for i, k in enumerate(KINDS)}
     curves.sort(key=lambda c: (order[c.kind], c.curve_id))
     if areas:

@@ -15,15 +15,11 @@ import math
 
 import numpy as np
 
+from networks.profiles import profiles
+
 #: Chords shorter than this (metres) are dropped before computing headings.
 MIN_CHORD_M = 1e-6
 
-#: Before curvature is fitted, vertices closer than this along the line are thinned out:
-#: SUMO writes coordinates to 0.01 m, which on 0.5 m chords is a heading noise of 1°.
-CURVATURE_MIN_CHORD_M = 1.5
-
-#: The widest window of arc length the adaptive curvature fit uses (metres).
-MAX_WINDOW_M = 15.0
 
 
 def navigational_to_heading_rad(angle_deg: float | np.ndarray) -> float | np.ndarray:
@@ -164,34 +160,6 @@ def signed_turn_deg(points: np.ndarray) -> float:
     return float(np.degrees(h[-1] - h[0]))
 
 
-def thin_polyline(points: np.ndarray, min_chord_m: float = CURVATURE_MIN_CHORD_M) -> np.ndarray:
-    """Keep the ends and the vertices at least ``min_chord_m`` (arc length) after the last kept.
-
-    Examples
-    --------
-    >>> thin_polyline(np.array([[0, 0], [0.5, 0], [1.0, 0], [2.0, 0], [2.2, 0.0]]), 1.0)[:, 0]
-    array([0. , 1. , 2.2])
-    >>> thin_polyline(np.array([[0, 0], [0.1, 0.0]]), 1.0).shape
-    (2, 2)
-    """
-    pts = np.asarray(points, dtype=float)
-    if len(pts) < 3:
-        return pts
-    s = arc_length(pts)
-    if np.min(s[1:] - s[:-1]) >= min_chord_m:
-        return pts
-    keep = [0]
-    last = 0.0
-    for i in range(1, len(pts) - 1):
-        if s[i] - last >= min_chord_m:
-            keep.append(i)
-            last = s[i]
-    if s[-1] - last < 0.5 * min_chord_m and len(keep) > 1:
-        keep.pop()
-    keep.append(len(pts) - 1)
-    return pts[keep]
-
-
 def curvature_profile(
     points: np.ndarray,
     step_m: float = 0.25,
@@ -202,11 +170,13 @@ def curvature_profile(
 ) -> tuple[np.ndarray, np.ndarray]:
     """Signed curvature (1/m, left positive) at stations along a polyline.
 
-    The line is thinned (:func:`thin_polyline`), then its heading (:func:`heading_at`) is
-    differenced over a window of ``window_m`` of arc length centred on each station (shrunk
-    at the ends of the line). With ``adaptive``, a second pass uses a window of half the
-    radius found (between ``window_m`` and :data:`MAX_WINDOW_M`). Stations are every
-    ``step_m`` from ``s_from_m`` to ``s_to_m`` (default: the end).
+    Headings at chord midpoints (chords extended to at least
+    :data:`~networks.profiles.MIN_CHORD_M`), interpolated, differenced over a window of
+    ``window_m`` of arc length centred on each station (shrunk at the ends of the line);
+    with ``adaptive``, a second pass uses a window of half the radius found (between
+    ``window_m`` and :data:`MAX_WINDOW_M`). Stations are every ``step_m`` from
+    ``s_from_m`` to ``s_to_m`` (default: the end). See :func:`networks.profiles.profiles`
+    for many lines at once.
 
     Returns
     -------
@@ -232,34 +202,9 @@ def curvature_profile(
     pts = clean_polyline(points)
     if len(pts) < 2:
         return np.zeros(0), np.zeros(0)
-    pts = thin_polyline(pts)
-    s_all = arc_length(pts)
-    total = float(s_all[-1])
-    d = pts[1:, :2] - pts[:-1, :2]
-    h_chord = unwrap(np.arctan2(d[:, 1], d[:, 0]))
-    s_mid = 0.5 * (s_all[:-1] + s_all[1:])
-    end = total if s_to_m is None else min(max(s_to_m, 0.0), total)
-    start = min(max(s_from_m, 0.0), end)
-    n = max(int(math.floor((end - start) / step_m + 1e-9)), 0) + 1
-    s = start + step_m * np.arange(n)
-    s[-1] = min(s[-1], end)
-    if len(pts) < 3:
-        return s, np.zeros_like(s)
-
-    def fit(half: np.ndarray | float) -> np.ndarray:
-        lo = np.maximum(s - half, 0.0)
-        hi = np.minimum(s + half, total)
-        span = hi - lo
-        dh = np.interp(hi, s_mid, h_chord) - np.interp(lo, s_mid, h_chord)
-        return np.where(span > 1e-9, dh / np.maximum(span, 1e-9), 0.0)
-
-    k = fit(0.5 * window_m)
-    if adaptive:
-        # second pass: a window that grows with the radius found (to MAX_WINDOW_M), so
-        # that coordinate rounding does not make wide curves look tighter than they are
-        wide = np.clip(0.5 / np.maximum(np.abs(k), 1e-9), window_m, MAX_WINDOW_M)
-        k = fit(0.5 * wide)
-    return s, k
+    end = float(arc_length(pts)[-1]) if s_to_m is None else s_to_m
+    p = profiles([pts], [s_from_m], [end], step_m, window_m, margin_m=0.0, adaptive=adaptive)
+    return p.s_m[0], p.curvature_per_m[0]
 
 
 def radius_from_curvature(curvature_per_m: np.ndarray) -> np.ndarray:
@@ -326,8 +271,12 @@ def grades_pct(
     return float(100.0 * np.abs(grade).max()), float(100.0 * np.abs(change).max())
 
 
-def cut_polyline(points: np.ndarray, s_from_m: float, s_to_m: float) -> np.ndarray:
+def cut_polyline(
+    points: np.ndarray, s_from_m: float, s_to_m: float, s: np.ndarray | None = None
+) -> np.ndarray:
     """The part of a polyline between two arc lengths (interpolating the end points, z too).
+
+    ``s`` may give the arc length of each point (:func:`arc_length`) when known.
 
     Examples
     --------
@@ -337,11 +286,24 @@ def cut_polyline(points: np.ndarray, s_from_m: float, s_to_m: float) -> np.ndarr
     (1, 3)
     """
     pts = np.asarray(points, dtype=float)
-    s = arc_length(pts)
-    a = min(max(s_from_m, 0.0), s[-1])
-    b = min(max(s_to_m, a), s[-1])
-    inner = pts[(s > a) & (s < b)]
-    ends = np.array([[np.interp(v, s, pts[:, j]) for j in range(pts.shape[1])] for v in (a, b)])
+    if s is None:
+        s = arc_length(pts)
+    total = float(s[-1])
+    a = min(max(s_from_m, 0.0), total)
+    b = min(max(s_to_m, a), total)
+    ends = _points_at(pts, s, np.array([a, b]))
     if b - a <= 0:
         return ends[:1]
+    i, j = np.searchsorted(s, [a, b], side="right")
+    inner = pts[i:j]
+    if len(inner) and s[j - 1] >= b:
+        inner = inner[:-1]
     return np.vstack((ends[:1], inner, ends[1:]))
+
+
+def _points_at(pts: np.ndarray, s: np.ndarray, at: np.ndarray) -> np.ndarray:
+    """Points (all columns) at arc lengths ``at`` by linear interpolation."""
+    k = np.clip(np.searchsorted(s, at, side="right") - 1, 0, len(s) - 2)
+    seg = s[k + 1] - s[k]
+    t = np.where(seg > 0, (at - s[k]) / np.where(seg > 0, seg, 1.0), 0.0)
+    return pts[k] + t[:, None] * (pts[k + 1] - pts[k])

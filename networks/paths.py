@@ -12,7 +12,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from networks.geometry import arc_length, clean_polyline, cut_polyline
+from networks.geometry import MIN_CHORD_M
 from networks.reader import Connection, Network
 
 #: Preference among connection directions when a path is extended (straight on first).
@@ -142,7 +142,21 @@ class Path:
     core_lanes: tuple[str, ...]
 
 
-def build_path(
+@dataclass(slots=True)
+class PathPlan:
+    """The lanes of a path before its centre line is made (see :func:`realise`)."""
+
+    lanes: list[str]
+    n_before: int
+    n_core: int
+    core_from_m: float
+    core_to_m: float
+    core_total_m: float
+    approach_m: float
+    exit_m: float
+
+
+def plan_path(
     net: Network,
     before: list[str],
     core: list[str],
@@ -151,11 +165,12 @@ def build_path(
     exit_m: float,
     core_from_m: float = 0.0,
     core_to_m: float | None = None,
-) -> Path:
-    """Join lanes into a centre line with ``approach_m`` before the core and ``exit_m`` after.
+) -> PathPlan:
+    """Choose the lanes of a path: ``before`` + ``core`` + ``after``, extended as needed.
 
     ``before`` ends with the approach lane, ``after`` starts with the exit lane; both are
-    extended through the network when they are too short. ``core_from_m`` / ``core_to_m``
+    extended through the network when they are shorter than ``approach_m`` / ``exit_m``
+    (less the part of the core lanes outside the core). ``core_from_m`` / ``core_to_m``
     place the core inside the concatenated core lanes (default: all of them).
     """
     core_total = sum(net.lane_line(k)[1] for k in core)
@@ -171,27 +186,122 @@ def build_path(
     if need_fwd > 0:
         last = after[-1] if after else core[-1]
         after = after + extend_forward(net, last, need_fwd)
-    lanes = before + core + after
-    pieces = [net.lane_line(k)[0] for k in lanes]
-    counts = np.array([len(p) for p in pieces])
-    first = np.concatenate(([0], np.cumsum(counts)[:-1]))
-    joined = np.vstack(pieces)
-    s = arc_length(joined)
-    piece_start = s[first]
-    piece_end = s[first + counts - 1]
-    n_before = len(before)
-    core_start = float(piece_start[n_before]) + c_from
-    core_end = float(piece_end[n_before + len(core) - 1]) - (core_total - c_to)
-    lo = max(core_start - approach_m, 0.0)
-    hi = min(core_end + exit_m, float(s[-1]))
-    keep = [i for i in range(len(lanes)) if piece_end[i] > lo + 1e-9 and piece_start[i] < hi - 1e-9]
-    if not keep:
-        keep = list(range(n_before, n_before + len(core)))
-    centre = clean_polyline(cut_polyline(joined, lo, hi))
-    return Path(
-        lanes=tuple(lanes[i] for i in keep),
-        centerline=centre,
-        core_start_m=core_start - lo,
-        core_end_m=min(core_end - lo, float(arc_length(centre)[-1])),
-        core_lanes=tuple(core),
+    return PathPlan(
+        before + core + after, len(before), len(core), c_from, c_to, core_total, approach_m, exit_m
     )
+
+
+_GAP = 10.0  # key distance between consecutive paths in a batch
+
+
+def realise(net: Network, plans: list[PathPlan]) -> list[Path]:
+    """Make the centre lines of many planned paths at once (vectorised).
+
+    Each centre line is its lanes' shapes joined, cut to ``approach_m`` before the core and
+    ``exit_m`` after it (where the lanes reach that far), without repeated points.
+    """
+    if not plans:
+        return []
+    lane_lines = [net.lane_line(k)[0] for p in plans for k in p.lanes]
+    n_pieces = np.array([len(p.lanes) for p in plans])
+    piece_counts = np.fromiter((len(x) for x in lane_lines), dtype=np.int64, count=len(lane_lines))
+    pts = np.concatenate(lane_lines)
+    piece_first = np.concatenate(([0], np.cumsum(piece_counts)[:-1]))
+    piece_last = piece_first + piece_counts - 1
+    plan_first_piece = np.concatenate(([0], np.cumsum(n_pieces)[:-1]))
+    plan_first = piece_first[plan_first_piece]
+    plan_last = piece_last[plan_first_piece + n_pieces - 1]
+    plan_of_pt = np.repeat(np.arange(len(plans)), plan_last - plan_first + 1)
+    d = pts[1:, :2] - pts[:-1, :2]
+    seg = np.hypot(d[:, 0], d[:, 1])
+    seg[plan_first[1:] - 1] = 0.0
+    s_glob = np.concatenate(([0.0], np.cumsum(seg)))
+    s0 = s_glob[plan_first]
+    total = s_glob[plan_last] - s0
+    key = s_glob + plan_of_pt * _GAP
+    base = key[plan_first]
+    nb = np.array([p.n_before for p in plans])
+    nc = np.array([p.n_core for p in plans])
+    core_start = s_glob[piece_first[plan_first_piece + nb]] - s0 + [p.core_from_m for p in plans]
+    core_end = (
+        s_glob[piece_last[plan_first_piece + nb + nc - 1]]
+        - s0
+        - [p.core_total_m - p.core_to_m for p in plans]
+    )
+    lo = np.maximum(core_start - [p.approach_m for p in plans], 0.0)
+    hi = np.minimum(core_end + [p.exit_m for p in plans], total)
+    hi = np.maximum(hi, lo)
+    # lanes the cut line runs on
+    plan_of_piece = np.repeat(np.arange(len(plans)), n_pieces)
+    p_start = s_glob[piece_first] - s0[plan_of_piece]
+    p_end = s_glob[piece_last] - s0[plan_of_piece]
+    on = (p_end > lo[plan_of_piece] + 1e-9) & (p_start < hi[plan_of_piece] - 1e-9)
+    # cut: end points interpolated, inner points strictly between
+    k_lo, k_hi = base + lo, base + hi
+    ends = _interp_points(pts, key, np.concatenate((k_lo, k_hi)))
+    i_in = np.searchsorted(key, k_lo, side="right")
+    j_in = np.searchsorted(key, k_hi, side="left")
+    n_in = np.maximum(j_in - i_in, 0)
+    sizes = n_in + 2
+    out_first = np.concatenate(([0], np.cumsum(sizes)[:-1]))
+    out = np.empty((int(sizes.sum()), pts.shape[1]))
+    n = len(plans)
+    out[out_first] = ends[:n]
+    out[out_first + sizes - 1] = ends[n:]
+    inner_plan = np.repeat(np.arange(n), n_in)
+    offset = np.arange(int(n_in.sum())) - np.repeat(np.cumsum(n_in) - n_in, n_in)
+    out[out_first[inner_plan] + 1 + offset] = pts[i_in[inner_plan] + offset]
+    # drop repeated points (lane joins), never a path's first point
+    dd = out[1:, :2] - out[:-1, :2]
+    keep = np.concatenate(([True], np.hypot(dd[:, 0], dd[:, 1]) > MIN_CHORD_M))
+    keep[out_first] = True
+    # a path cut to a single point keeps two copies (a degenerate, zero-length line)
+    out_plan = np.repeat(np.arange(n), sizes)
+    kept = np.bincount(out_plan, weights=keep, minlength=n).astype(np.int64)
+    lonely = np.flatnonzero(kept < 2)
+    keep[out_first[lonely] + sizes[lonely] - 1] = True
+    kept[lonely] = 2
+    cut = out[keep]
+    bounds = np.cumsum(kept)[:-1]
+    lines = np.split(cut, bounds)
+    paths = []
+    on_list = on.tolist()
+    first_piece = plan_first_piece.tolist()
+    for c, plan in enumerate(plans):
+        f = first_piece[c]
+        lanes = [k for i, k in enumerate(plan.lanes) if on_list[f + i]]
+        if not lanes:
+            lanes = plan.lanes[plan.n_before : plan.n_before + plan.n_core]
+        paths.append(
+            Path(
+                lanes=tuple(lanes),
+                centerline=lines[c],
+                core_start_m=float(core_start[c] - lo[c]),
+                core_end_m=float(min(core_end[c] - lo[c], hi[c] - lo[c])),
+                core_lanes=tuple(plan.lanes[plan.n_before : plan.n_before + plan.n_core]),
+            )
+        )
+    return paths
+
+
+def _interp_points(pts: np.ndarray, key: np.ndarray, at: np.ndarray) -> np.ndarray:
+    k = np.clip(np.searchsorted(key, at, side="right") - 1, 0, len(key) - 2)
+    seg = key[k + 1] - key[k]
+    t = np.where(seg > 0, (at - key[k]) / np.where(seg > 0, seg, 1.0), 0.0)
+    t = np.clip(t, 0.0, 1.0)
+    return pts[k] + t[:, None] * (pts[k + 1] - pts[k])
+
+
+def build_path(
+    net: Network,
+    before: list[str],
+    core: list[str],
+    after: list[str],
+    approach_m: float,
+    exit_m: float,
+    core_from_m: float = 0.0,
+    core_to_m: float | None = None,
+) -> Path:
+    """Plan and realise one path (see :func:`plan_path` and :func:`realise`)."""
+    plan = plan_path(net, before, core, after, approach_m, exit_m, core_from_m, core_to_m)
+    return realise(net, [plan])[0]

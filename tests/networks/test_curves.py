@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from networks.curves import CurveOptions, extract_curves
-from networks.geometry import MAX_WINDOW_M
+from networks.profiles import MAX_WINDOW_M
 from networks.reader import read_network
 from vehicles.errors import InputError
 
