@@ -127,6 +127,7 @@ def attach_areas(net: Network, curves: Sequence[Curve]) -> None:
     paved_of: list[int] = []
     junction_members: dict[str, frozenset[int]] = {}
     edge_incident = _incident_edges(net)
+    internal = _internal_lanes_by_junction(net)
     for curve in curves:
         road = _roadway_lanes(net, curve.lanes)
         road_set = frozenset(cat.ref("L:" + k) for k in road)
@@ -135,7 +136,7 @@ def attach_areas(net: Network, curves: Sequence[Curve]) -> None:
         for j in _junctions_of(net, curve):
             if j not in junction_members:
                 junction_members[j] = frozenset(
-                    cat.ref(k) for k in _junction_neighbourhood(net, j, edge_incident)
+                    cat.ref(k) for k in _junction_neighbourhood(net, j, edge_incident, internal)
                 )
             members |= junction_members[j]
         paved_set = frozenset(members)
@@ -191,11 +192,21 @@ def _junctions_of(net: Network, curve: Curve) -> list[str]:
     return [j for j in dict.fromkeys(out) if j in net.junctions]
 
 
+def _internal_lanes_by_junction(net: Network) -> dict[str, list[str]]:
+    """Every internal lane under the junction it belongs to (also those after an internal
+    junction, which the junction's ``intLanes`` may not list)."""
+    out: dict[str, list[str]] = {}
+    for k, lane in net.lanes.items():
+        if lane.function == "internal":
+            out.setdefault(junction_of_internal(k), []).append(k)
+    return out
+
+
 def _junction_neighbourhood(
-    net: Network, junction: str, incident: dict[str, list[str]]
+    net: Network, junction: str, incident: dict[str, list[str]], internal: dict[str, list[str]]
 ) -> list[str]:
     keys = ["J:" + junction]
     for e in incident.get(junction, []):
         keys.extend("L:" + k for k in net.edges[e].lanes)
-    keys.extend("L:" + k for k in net.junctions[junction].int_lanes if k in net.lanes)
+    keys.extend("L:" + k for k in internal.get(junction, []))
     return keys
