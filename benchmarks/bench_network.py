@@ -1,0 +1,158 @@
+"""Speed and memory of reading a large network and extracting its curves.
+
+A 10,000-junction grid (``netgenerate --grid --grid.number 100``, two lanes, about 130 MB)
+is generated once into a cache directory outside the repository, then:
+
+1. our reader (:func:`networks.reader.read_network`) is timed ``--repeat`` times, each in a
+   fresh process (so that peak memory is per run);
+2. ``sumolib.net.readNet(..., withInternal=True)`` is timed once in its own process, for the
+   ratio;
+3. extraction of every curve is timed without areas and with the three areas.
+
+Targets on a 2-core machine: reading ≤ 5 s, extracting every curve ≤ 30 s, peak memory
+≤ 1.5 GB. Run::
+
+    python benchmarks/bench_network.py                 # cache: ~/.cache/sumo-clearance
+    python benchmarks/bench_network.py --grid 30       # a smaller grid, for a quick look
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import statistics
+import subprocess
+import sys
+from pathlib import Path
+
+TARGET_READ_S = 5.0
+TARGET_EXTRACT_S = 30.0
+TARGET_PEAK_MB = 1536.0
+
+_CHILD = r"""
+import json, resource, sys, time
+what, path = sys.argv[1], sys.argv[2]
+t0 = time.perf_counter()
+out = {}
+if what == "ours":
+    from networks.reader import read_network
+    net = read_network(path)
+    out["read_s"] = time.perf_counter() - t0
+    out["lanes"] = len(net.lanes)
+    out["junctions"] = sum(1 for j in net.junctions.values() if j.type != "internal")
+elif what == "sumolib":
+    import sumolib
+    net = sumolib.net.readNet(path, withInternal=True)
+    out["read_s"] = time.perf_counter() - t0
+elif what == "extract":
+    from networks.curves import extract_curves
+    from networks.reader import read_network
+    net = read_network(path)
+    out["read_s"] = time.perf_counter() - t0
+    t1 = time.perf_counter()
+    curves = extract_curves(net, areas=False)
+    out["extract_s"] = time.perf_counter() - t1
+    out["curves"] = len(curves)
+    kinds = {}
+    for c in curves:
+        kinds[c.kind] = kinds.get(c.kind, 0) + 1
+    out["kinds"] = kinds
+    if sys.argv[3] == "areas":
+        from networks.areas import attach_areas
+        t2 = time.perf_counter()
+        attach_areas(net, curves)
+        out["areas_s"] = time.perf_counter() - t2
+out["peak_mb"] = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
+print(json.dumps(out))
+"""
+
+
+def cache_dir() -> Path:
+    base = os.environ.get("XDG_CACHE_HOME") or str(Path.home() / ".cache")
+    return Path(base) / "sumo-clearance"
+
+
+def grid_network(n: int, directory: Path) -> Path:
+    """Generate (once) an n × n grid with two lanes per direction."""
+    from networks.sumo_tools import run_sumo_tool
+
+    directory.mkdir(parents=True, exist_ok=True)
+    path = directory / f"grid{n}x{n}_2lanes.net.xml"
+    if not path.exists():
+        print(f"generating {path} (netgenerate, once) ...", flush=True)
+        tmp = path.with_suffix(".tmp.xml")
+        args = ["--grid", "--grid.number", str(n), "--default.lanenumber", "2", "-o", str(tmp)]
+        run_sumo_tool("netgenerate", args, timeout_s=1800)
+        tmp.replace(path)
+    return path
+
+
+def child(what: str, path: Path, extra: str = "-") -> dict:
+    env = dict(os.environ)
+    repo = str(Path(__file__).resolve().parents[1])
+    env["PYTHONPATH"] = repo + os.pathsep + env.get("PYTHONPATH", "")
+    proc = subprocess.run(
+        [sys.executable, "-c", _CHILD, what, str(path), extra],
+        capture_output=True,
+        text=True,
+        env=env,
+        check=False,
+    )
+    if proc.returncode != 0:
+        raise SystemExit(f"{what} failed:\n{proc.stderr[-3000:]}")
+    return json.loads(proc.stdout.strip().splitlines()[-1])
+
+
+def verdict(value: float, target: float) -> str:
+    return "ok" if value <= target else "OVER TARGET"
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(description=(__doc__ or "").split("\n")[0])
+    parser.add_argument("--grid", type=int, default=100, help="junctions per side (default 100)")
+    parser.add_argument("--repeat", type=int, default=3, help="reads of our reader (median)")
+    parser.add_argument("--cache", type=Path, default=None, help="where the grid is kept")
+    parser.add_argument("--no-sumolib", action="store_true", help="skip the sumolib comparison")
+    args = parser.parse_args(argv)
+    path = grid_network(args.grid, args.cache or cache_dir())
+    size_mb = path.stat().st_size / 1e6
+    print(f"network: {path} ({size_mb:.0f} MB)")
+
+    ours = [child("ours", path) for _ in range(max(args.repeat, 1))]
+    read_s = statistics.median(r["read_s"] for r in ours)
+    read_peak = max(r["peak_mb"] for r in ours)
+    runs = ", ".join(f"{r['read_s']:.2f}" for r in ours)
+    print(
+        f"our reader: median {read_s:.2f} s over {len(ours)} run(s) "
+        f"({runs}), peak {read_peak:.0f} MB, "
+        f"{ours[0]['junctions']} junctions, {ours[0]['lanes']} lanes "
+        f"[target {TARGET_READ_S:.0f} s: {verdict(read_s, TARGET_READ_S)}]"
+    )
+    if not args.no_sumolib:
+        ref = child("sumolib", path)
+        print(
+            f"sumolib.net.readNet(withInternal=True): {ref['read_s']:.2f} s, peak "
+            f"{ref['peak_mb']:.0f} MB; ratio ours/sumolib = {read_s / ref['read_s']:.2f} "
+            f"({ref['read_s'] / read_s:.1f}x faster)"
+        )
+    ext = child("extract", path, "areas")
+    print(
+        f"extracting every curve ({ext['curves']}: {ext['kinds']}): {ext['extract_s']:.2f} s "
+        f"[target {TARGET_EXTRACT_S:.0f} s: {verdict(ext['extract_s'], TARGET_EXTRACT_S)}]"
+    )
+    total = ext["extract_s"] + ext["areas_s"]
+    print(
+        f"  + own lanes, roadway and paved areas of every curve: {ext['areas_s']:.2f} s "
+        f"(total {total:.2f} s [{verdict(total, TARGET_EXTRACT_S)}])"
+    )
+    peak = max(read_peak, ext["peak_mb"])
+    print(
+        f"peak memory (read + extract + areas): {ext['peak_mb']:.0f} MB "
+        f"[target {TARGET_PEAK_MB:.0f} MB: {verdict(peak, TARGET_PEAK_MB)}]"
+    )
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
