@@ -90,7 +90,8 @@ class TrackingSettings:
     Attributes
     ----------
     dt_s
-        Time step (s).
+        Time step (s). The arcs are exact whatever the step; the step sets how often the
+        controller acts (0.1 s: every 0.2 m at crawl speed).
     speed
         Front-axle speed: a constant (m/s) or a :class:`~analysis.kinematics.SpeedProfile`.
     tolerance_m
@@ -116,7 +117,7 @@ class TrackingSettings:
     (1.0,)
     """
 
-    dt_s: float = 0.05
+    dt_s: float = 0.1
     speed: float | SpeedProfile = CRAWL_SPEED_M_S
     tolerance_m: float = 0.5
     gain_1_s: float = 2.5
