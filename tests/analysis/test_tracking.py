@@ -178,3 +178,17 @@ def test_rear_steered_vehicle_follows_with_its_front_axle_and_swings_out() -> No
     r_rear = np.hypot(tr.x_m[late], tr.y_m[late] - radius)
     assert np.allclose(r_rear, math.hypot(radius, v.wheelbase_m), rtol=2e-3)
     assert np.allclose(tr.phi_rad, -right.trajectory.phi_rad, atol=1e-9)
+
+
+def test_tolerance_decides_cannot_turn_on_the_same_drive() -> None:
+    v = bus()
+    ctr_min = math.hypot(v.min_radius_m, v.wheelbase_m)
+    path = turn(0.85 * ctr_min, 120.0)
+    base = simulate(v, path)
+    err = base.max_error_m
+    assert 0.1 < err < 1.0
+    loose = simulate(v, path, TrackingSettings(tolerance_m=1.5 * err))
+    strict = simulate(v, path, TrackingSettings(tolerance_m=0.5 * err))
+    assert loose.followed and strict.cannot_turn
+    assert loose.max_error_m == pytest.approx(strict.max_error_m)  # same drive, other verdict
+    assert f"tolerance {0.5 * err:.2f} m" in strict.reason
