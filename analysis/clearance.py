@@ -323,11 +323,14 @@ class RunResult:
         Envelope, wheel tracks, offtracking and swept width.
     clearance
         Verdict and margins.
+    measured
+        The envelope as measured: grown by the offset, trimmed at the path's ends.
     """
 
     run: TrackingRun
     swept: SweptPath
     clearance: Clearance
+    measured: BaseGeometry
 
     @property
     def verdict(self) -> str:
@@ -364,10 +367,10 @@ def evaluate(
     >>> r.verdict, round(r.margin_m, 9)
     ('clear', 0.55)
     """
+    _check_offset(offset_m)
     swept = swept_path(run, tolerance_m=tolerance_m, width_step_m=width_step_m)
     measured = swept.envelope
     if offset_m > 0:
-        _check_offset(offset_m)
         measured = shapely.buffer(measured, offset_m, quad_segs=8)
     ignore = None
     if trim_ends:
@@ -378,7 +381,8 @@ def evaluate(
         ignore = shapely.buffer(boxes, 1e-6, quad_segs=1)
     clearance = classify(measured, areas, 0.0, run.reason, ignore=ignore)
     return RunResult(run, swept, dataclasses.replace(clearance, offset_m=float(offset_m),
-                                                     reason=_grown(clearance, offset_m)))
+                                                     reason=_grown(clearance, offset_m)),
+                     measured)
 
 
 def evaluate_batch(

@@ -79,6 +79,10 @@ def test_bad_areas_and_offsets_raise_input_errors() -> None:
         Areas(LANE, shapely.Polygon())
     with pytest.raises(InputError, match="offset"):
         classify(shapely.box(1, 1, 2, 2), Areas(LANE, PAVED), offset_m=-0.1)
+    run = simulate(car(), [(0.0, 1.75), (30.0, 1.75)])
+    for bad in (-0.3, math.nan):
+        with pytest.raises(InputError, match="offset"):
+            evaluate(run, Areas(LANE, PAVED), offset_m=bad)
 
 
 def _corner_areas(path: np.ndarray, lane_half_m: float, paved_half_m: float) -> Areas:
@@ -129,6 +133,10 @@ def test_full_run_gap_inside_the_lane_ignores_the_lane_ends() -> None:
     xy = xy[(xy[:, 0] >= -20.0) & (xy[:, 1] <= 32.0)]
     widest = float(np.max(shapely.distance(shapely.points(xy), shapely.LineString(path))))
     assert res.margin_m == pytest.approx(2.5 - 0.3 - widest, abs=0.03)
+    # the measured envelope is the grown one, cut at the start line x = -20 and end y = 32
+    minx, _, _, maxy = res.measured.bounds
+    assert minx == pytest.approx(-20.0) and maxy == pytest.approx(32.0)
+    assert shapely.covers(shapely.buffer(res.swept.envelope, 0.3 + 1e-6), res.measured)
     assert 0.3 < res.margin_m < 1.5
 
 
