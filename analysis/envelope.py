@@ -158,7 +158,8 @@ def key_samples(
     and ``A_ij`` the summed absolute turning of its path between them (a path of length ``L``
     turning by ``A`` strays at most ``L A / 4`` from its chord). Points of the edges stray
     no more than their end points (they move as fixed blends of them). The first and last
-    samples are always included.
+    samples are always included, and so is every sample after a single step however much
+    it turns (the sampling then decides the accuracy).
 
     Examples
     --------
