@@ -21,7 +21,6 @@ from networks.profiles import profiles
 MIN_CHORD_M = 1e-6
 
 
-
 def navigational_to_heading_rad(angle_deg: float | np.ndarray) -> float | np.ndarray:
     """Convert a SUMO angle (degrees clockwise from north) to a heading (rad, CCW from +x).
 

@@ -234,9 +234,11 @@ class RingDesign:
     """A single-lane roundabout with four radial two-way arms (one lane each way).
 
     The ring lane's outer edge is the inscribed circle; an optional truck apron (a lane
-    that only ``custom1`` may use: paved, not a traffic lane) lies inside it. Entries and
-    exits are circular arcs of ``entry_radius_m`` / ``exit_radius_m`` (lane centre lines)
-    tangent to the arm's lane and to the ring lane's centre line.
+    that only ``custom1`` may use: paved, not a traffic lane) lies inside it, and optional
+    paved shoulders (likewise ``custom1`` lanes) flank the arms' lanes on the right, as
+    entry and exit flares would. Entries and exits are circular arcs of ``entry_radius_m``
+    / ``exit_radius_m`` (lane centre lines) tangent to the arm's lane and to the ring
+    lane's centre line.
     """
 
     rid: str
@@ -249,6 +251,7 @@ class RingDesign:
     apron_m: float = 0.0
     arm_m: float = 100.0
     arm_lane_m: float = 3.5
+    shoulder_m: float = 0.0
 
     @property
     def ring_centre_radius_m(self) -> float:
@@ -257,7 +260,17 @@ class RingDesign:
 
 
 ROUNDABOUTS = (
-    RingDesign("R", 0.0, 0.0, 34.0, 5.0, entry_radius_m=14.0, exit_radius_m=16.0, apron_m=9.0),
+    RingDesign(
+        "R",
+        0.0,
+        0.0,
+        34.0,
+        5.0,
+        entry_radius_m=14.0,
+        exit_radius_m=16.0,
+        apron_m=9.0,
+        shoulder_m=2.0,
+    ),
     RingDesign("C", 300.0, 0.0, 26.0, 5.0, entry_radius_m=10.0, exit_radius_m=12.0),
 )
 
@@ -296,7 +309,8 @@ def ring(design: RingDesign) -> tuple[list[str], list[str], list[str]]:
         nid = f"{design.rid}{k}"
         b = math.radians(beta)
         poly = arc((0, 0), inner, -beta, beta, 3.0)
-        poly += [(outer * math.cos(b), outer * math.sin(b)), (x_arm, 2 * off), (x_arm, -2 * off)]
+        half = 2 * off + design.shoulder_m  # half the arm's paved width
+        poly += [(outer * math.cos(b), outer * math.sin(b)), (x_arm, half), (x_arm, -half)]
         poly += [(outer * math.cos(b), -outer * math.sin(b))]
         ((x, y),) = place([(r_mid, 0.0)], ang)
         nodes.append(
@@ -305,9 +319,18 @@ def ring(design: RingDesign) -> tuple[list[str], list[str], list[str]]:
         )
         ((ax, ay),) = place([(outer + design.arm_m, 0.0)], ang)
         nodes.append(f'<node id="{nid}a" x="{ax:.3f}" y="{ay:.3f}"/>')
-        attrs = f'numLanes="1" width="{design.arm_lane_m}" speed="13.89" priority="1"'
-        edges.append(f'<edge id="{nid}_in" from="{nid}a" to="{nid}" {attrs}/>')
-        edges.append(f'<edge id="{nid}_out" from="{nid}" to="{nid}a" {attrs}/>')
+        if design.shoulder_m:
+            attrs = 'numLanes="2" speed="13.89" priority="1"'
+            lanes = (
+                f'<lane index="0" width="{design.shoulder_m}" allow="custom1"/>'
+                f'<lane index="1" width="{design.arm_lane_m}"/>'
+            )
+        else:
+            attrs = f'numLanes="1" width="{design.arm_lane_m}" speed="13.89" priority="1"'
+            lanes = ""
+        edges.append(f'<edge id="{nid}_in" from="{nid}a" to="{nid}" {attrs}>{lanes}</edge>')
+        edges.append(f'<edge id="{nid}_out" from="{nid}" to="{nid}a" {attrs}>{lanes}</edge>')
+        arm_lane = 1 if design.shoulder_m else 0
         ring_in = f"{design.rid}ring{(k - 1) % 4}"
         ring_out = f"{design.rid}ring{k}"
         # entry: along the arm's lane, a right-hand arc onto the ring, round to the cut
@@ -321,13 +344,13 @@ def ring(design: RingDesign) -> tuple[list[str], list[str], list[str]]:
         exit_ += arc(x_centre, design.exit_radius_m, 90 + (90 - phi_out), 90)[1:]
         exit_ += [(x_arm, -off)]
         through = arc((0, 0), rc, -beta, beta)
-        for frm, to, pts in (
-            (f"{nid}_in", ring_out, entry),
-            (ring_in, f"{nid}_out", exit_),
-            (ring_in, ring_out, through),
+        for frm, to, lane_from, lane_to, pts in (
+            (f"{nid}_in", ring_out, arm_lane, 0, entry),
+            (ring_in, f"{nid}_out", 0, arm_lane, exit_),
+            (ring_in, ring_out, 0, 0, through),
         ):
             cons.append(
-                f'<connection from="{frm}" to="{to}" fromLane="0" toLane="0" '
+                f'<connection from="{frm}" to="{to}" fromLane="{lane_from}" toLane="{lane_to}" '
                 f'shape="{fmt(place(pts, ang))}"/>'
             )
         if design.apron_m:

@@ -76,13 +76,18 @@ def test_roundabouts_entry_and_ring_radii():
         mid = (s > through.core_start_m) & (s < through.core_end_m)
         assert np.any(np.abs(through.profile_radius_m[mid] - rc) < 0.03 * rc)
     # the truck apron is paved but not roadway
-    big = next(c for c in curves if c.curve_id == "roundabout:R0:R0_in_0->R2_out_0")
+    big = next(c for c in curves if c.junction == "R0" and abs(c.turn_angle_deg) < 1)
+    assert big.curve_id == "roundabout:R0:R0_in_1->R2_out_1"  # lane 0 is the shoulder
     apron = net.lanes["Rring0_1"]
     assert "passenger" not in apron.allowed
     from shapely.geometry import Point
 
     probe = Point(0.0, 7.5)  # on the apron, 7.5 m from the centre
     assert big.paved.covers(probe) and not big.roadway.covers(probe)
+    # so are the arms' shoulders
+    shoulder = Point(30.0, 4.5)  # east arm, 1 m outside the inbound lane
+    assert "passenger" not in net.lanes["R0_in_0"].allowed
+    assert big.paved.covers(shoulder) and not big.roadway.covers(shoulder)
 
 
 def test_parking_ramp_helix():
