@@ -1,0 +1,51 @@
+"""``clearance compare``: side-by-side turning geometry of vehicle models, with figures."""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+
+import pandas as pd
+
+from reports import compare, templates
+from reports.atomic import write_text_atomic
+from vehicles.table import load_tables
+
+
+def add_parser(sub: argparse._SubParsersAction) -> None:
+    p = sub.add_parser(
+        "compare",
+        help="compare vehicle models: turning circles, rho(theta), swept width, templates",
+        description="A side-by-side table of the models' turning circles and swept widths, "
+                    "and figures: turning circles, rho against the Ackermann angle (the "
+                    "paper's Figure 5), swept width against it (Figure 6), and 90° and 180° "
+                    "turning templates of each model at one scale.",
+    )
+    p.add_argument("-t", "--table", action="append", metavar="TABLE.csv",
+                   help="vehicle table (repeatable); default: every bundled table")
+    p.add_argument("--vehicle", action="append", metavar="NAME",
+                   help="only this vehicle (repeatable)")
+    p.add_argument("--units", choices=("m", "ft"), default="m", help="output length units")
+    p.add_argument("-o", "--output", metavar="DIR", default="compare",
+                   help="output folder (default: ./compare)")
+    p.set_defaults(run=run)
+
+
+def run(args: argparse.Namespace) -> int:
+    table = load_tables(args.table, args.vehicle)
+    out = Path(args.output)
+    frame = compare.comparison_table(table, args.units)
+    written = [write_text_atomic(out / "compare.csv",
+                                 frame.to_csv(index=False, float_format="%.6g",
+                                              lineterminator="\n"))]
+    written += compare.plot_turning_circles(table, out / "turning_circles", args.units)
+    written += compare.plot_rho_theta(table, out / "rho_theta", args.units)
+    written += compare.plot_swept_width_theta(table, out / "swept_width_theta", args.units)
+    written += templates.plot_templates(table, out, args.units)
+    shown = frame.drop(columns=["category", "units"]).round(2)
+    with pd.option_context("display.width", 250, "display.max_columns", 40,
+                           "display.max_rows", 500):
+        print(f"{len(frame)} models, sorted by wall-to-wall diameter (lengths in {args.units})")
+        print(shown.to_string(index=False))
+    print(f"wrote {len(written)} files under {out}/")
+    return 0
