@@ -1,0 +1,67 @@
+"""Drive the design vehicles through the sample networks and print the verdict tables.
+
+The README's tables come from this script::
+
+    python -m networks.samples.verdicts            # Markdown tables on stdout
+
+Vehicles: the AASHTO design vehicles P, SU-30, CITY-BUS and WB-62 (bundled table
+``aashto_green_book``) and a large van (the 2008 Chrysler Town & Country of
+``paper_table1``). Each drives lane-keeping along the curve's centre line at crawl speed
+(:mod:`analysis.tracking`); its swept envelope is measured against the curve's own lanes,
+roadway and paved area (:mod:`analysis.clearance`), with no clearance offset.
+"""
+
+from __future__ import annotations
+
+import sys
+
+from analysis.clearance import Areas, evaluate
+from analysis.tracking import simulate_batch
+from networks.curves import Curve, extract_curves
+from networks.reader import read_network
+from networks.samples.build import SAMPLES, SAMPLES_DIR
+from vehicles.table import bundled_table, load_tables
+
+VEHICLES = ("P", "2008 Chrysler Town & Country", "SU-30", "CITY-BUS", "WB-62")
+SHORT = {"2008 Chrysler Town & Country": "van"}
+
+
+def curves_of(name: str) -> list[Curve]:
+    """The curves of a sample worth a verdict (no straight-on turns; one roundabout arm)."""
+    net = read_network(SAMPLES_DIR / name / f"{name}.net.xml")
+    out = []
+    for c in extract_curves(net):
+        if c.kind == "turn" and abs(c.turn_angle_deg) < 30:
+            continue
+        if c.kind == "roundabout" and c.junction not in ("R0", "C0"):
+            continue  # the four arms of each ring are alike
+        out.append(c)
+    return out
+
+
+def table(name: str) -> str:
+    """A Markdown table of verdicts (own-lane margin in metres) for one sample."""
+    vehicles = load_tables(
+        [bundled_table("aashto_green_book"), bundled_table("paper_table1")], names=VEHICLES
+    ).vehicles()
+    heads = ["curve", "R min [m]", "turn [°]", *(SHORT.get(v.name, v.name) for v in vehicles)]
+    lines = ["| " + " | ".join(heads) + " |", "|" + "---|" * len(heads)]
+    for c in curves_of(name):
+        runs = simulate_batch(vehicles, [c.centerline[:, :2]] * len(vehicles))
+        cells = [f"`{c.curve_id}`", f"{c.min_radius_m:.1f}", f"{round(c.turn_angle_deg):+d}"]
+        for run in runs:
+            res = evaluate(run, Areas(c.own_lanes, c.paved, c.roadway))
+            cells.append(f"{res.verdict} ({res.margin_m:+.2f})")
+        lines.append("| " + " | ".join(cells) + " |")
+    return "\n".join(lines)
+
+
+def main(argv: list[str] | None = None) -> int:
+    names = (argv if argv is not None else sys.argv[1:]) or list(SAMPLES)
+    for name in names:
+        print(f"### {name}\n\n{table(name)}\n")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
