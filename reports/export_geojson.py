@@ -1,0 +1,209 @@
+"""GeoJSON export of swept envelopes (RFC 7946), for QGIS and other GIS.
+
+Coordinates are WGS84 longitude/latitude when every network of the records has a projection
+(``projParameter`` other than ``"!"``): SUMO x, y minus the ``netOffset``, then the inverse
+of the network's projection with PROJ (pyproj), as sumolib's ``convertXY2LonLat`` does.
+Otherwise they are the SUMO plane metres of each network, and the file says so in its
+top-level ``coordinate_system`` member. (RFC 7946 section 7.1 forbids a member called
+``coordinates`` on a FeatureCollection, hence the name.)
+"""
+
+from __future__ import annotations
+
+import json
+import os
+from collections.abc import Iterable, Mapping
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pyproj
+from pyproj.exceptions import CRSError, ProjError
+from shapely.geometry import Polygon
+
+from networks.reader import Location
+from reports.atomic import write_text_atomic
+from reports.exports import EnvelopeRecord, checked_records, polygon_parts
+from vehicles.errors import InputError
+
+__all__ = ["COORDS_LOCAL", "COORDS_LONLAT", "COORDS_MIXED", "write_geojson", "lonlat_transformer"]
+
+COORDS_LONLAT = "WGS84 longitude/latitude (degrees, RFC 7946)"
+COORDS_LOCAL = "local metres (SUMO network coordinates, no projection)"
+COORDS_MIXED = (
+    "local metres (SUMO network coordinates of each network: not every network has a projection)"
+)
+DEG_DIGITS = 7  # 1e-7 degree, about 1 cm
+M_DIGITS = 3  # 1 mm
+
+
+def lonlat_transformer(network: str, location: Location) -> pyproj.Transformer | None:
+    """The transformer from a network's projected metres to WGS84 (lon, lat), or None.
+
+    Parameters
+    ----------
+    network
+        The network's name, for messages.
+    location
+        Its ``<location>``; ``proj_parameter`` ``"!"`` (or blank) means no projection.
+
+    Raises
+    ------
+    InputError
+        The ``projParameter`` is not a projection PROJ understands.
+    """
+    proj = (location.proj_parameter or "").strip()
+    if proj in ("", "!"):
+        return None
+    try:
+        crs = pyproj.CRS.from_user_input(proj)
+        if not crs.is_projected:
+            raise CRSError("not a projected coordinate system")
+        return pyproj.Transformer.from_crs(crs, "EPSG:4326", always_xy=True)
+    except (CRSError, ProjError) as exc:
+        raise InputError(
+            f"network {network}: cannot use its projParameter {proj!r}: {exc}"
+        ) from None
+
+
+def _ring(
+    coords: Any,
+    offset: tuple[float, float],
+    transformer: pyproj.Transformer | None,
+    exterior: bool,
+    label: str,
+) -> list[list[float]] | None:
+    """One closed, rounded, correctly oriented ring; None for a hole that vanishes."""
+    xy = np.asarray(coords, dtype=float)[:, :2]
+    if transformer is None:
+        out = np.round(xy, M_DIGITS)
+    else:
+        lon, lat = transformer.transform(xy[:, 0] - offset[0], xy[:, 1] - offset[1])
+        out = np.round(np.column_stack([lon, lat]), DEG_DIGITS)
+        ok = np.isfinite(out).all() and (abs(out[:, 0]) <= 180).all()
+        if not ok or not (abs(out[:, 1]) <= 90).all():
+            raise InputError(
+                f"record {label}: the network's projection gives no valid longitude/latitude "
+                "for its envelope (coordinates far outside the network?)"
+            )
+    keep = np.ones(len(out), dtype=bool)
+    keep[1:] = (out[1:] != out[:-1]).any(axis=1)
+    out = out[keep]
+    if len(out) and (out[0] != out[-1]).any():
+        out = np.vstack([out, out[:1]])
+    x, y = out[:, 0], out[:, 1]
+    area2 = float(np.dot(x[:-1], y[1:]) - np.dot(x[1:], y[:-1])) if len(out) >= 4 else 0.0
+    if area2 == 0.0:
+        if exterior:
+            raise InputError(f"record {label}: an envelope part vanishes at the output precision")
+        return None
+    if (area2 > 0) != exterior:  # RFC 7946: exteriors counter-clockwise, holes clockwise
+        out = out[::-1]
+    return [[float(a) + 0.0, float(b) + 0.0] for a, b in out]
+
+
+def _polygon(
+    part: Polygon,
+    offset: tuple[float, float],
+    transformer: pyproj.Transformer | None,
+    label: str,
+) -> list[list[list[float]]]:
+    rings = [_ring(part.exterior.coords, offset, transformer, True, label)]
+    for hole in part.interiors:
+        ring = _ring(hole.coords, offset, transformer, False, label)
+        if ring is not None:
+            rings.append(ring)
+    return rings  # type: ignore[return-value]
+
+
+def write_geojson(
+    path: str | os.PathLike[str],
+    records: Iterable[EnvelopeRecord],
+    locations: Mapping[str, Location],
+) -> Path:
+    """Write the envelopes as a GeoJSON FeatureCollection, one Feature per record.
+
+    Parameters
+    ----------
+    path
+        The output file (conventionally ``*.geojson``); written atomically.
+    records
+        The envelopes. Features are sorted by network, vehicle and curve id.
+    locations
+        Each network's ``<location>`` (``read_network(path).location``), by network name;
+        every network of the records must be there.
+
+    Returns
+    -------
+    Path
+        The file written.
+
+    Notes
+    -----
+    Longitude/latitude (WGS84, rounded to 1e-7 degree) when every network has a projection,
+    else local SUMO metres (rounded to 1 mm); the top-level ``coordinate_system`` member
+    says which, and ``networks`` gives each network's ``net_offset`` and ``proj_parameter``.
+    Feature properties: network, vehicle, curve_id, kind, verdict and margin_m (m, rounded to
+    1 mm; null when there is none). Exterior rings are counter-clockwise, holes clockwise.
+    Keys are sorted and there is no timestamp: identical inputs give identical bytes.
+
+    Raises
+    ------
+    InputError
+        A bad record (see :func:`reports.exports.checked_records`), a network without a
+        location, or a projParameter that PROJ cannot use; the message names it.
+    """
+    recs = checked_records(records)
+    names = sorted({r.network for r in recs})
+    missing = [n for n in names if n not in locations]
+    if missing:
+        raise InputError(f"GeoJSON export: no location given for network(s) {', '.join(missing)}")
+    transformers = {n: lonlat_transformer(n, locations[n]) for n in names}
+    n_projected = sum(t is not None for t in transformers.values())
+    if n_projected == len(names):
+        system = COORDS_LONLAT
+    else:
+        system = COORDS_LOCAL if n_projected == 0 else COORDS_MIXED
+        transformers = dict.fromkeys(names)
+
+    features = []
+    for r in recs:
+        offset = locations[r.network].net_offset
+        polys = [
+            _polygon(p, offset, transformers[r.network], r.label) for p in polygon_parts(r.envelope)
+        ]
+        geometry = (
+            {"type": "Polygon", "coordinates": polys[0]}
+            if len(polys) == 1
+            else {"type": "MultiPolygon", "coordinates": polys}
+        )
+        properties = {
+            "network": r.network,
+            "vehicle": r.vehicle,
+            "curve_id": r.curve_id,
+            "kind": r.kind,
+            "verdict": r.verdict,
+            "margin_m": r.margin_mm,
+        }
+        features.append({"type": "Feature", "geometry": geometry, "properties": properties})
+
+    networks = {
+        n: {
+            "net_offset": [round(float(v), M_DIGITS) + 0.0 for v in locations[n].net_offset],
+            "proj_parameter": locations[n].proj_parameter,
+        }
+        for n in names
+    }
+
+    def dump(obj: Any) -> str:
+        return json.dumps(
+            obj, sort_keys=True, ensure_ascii=False, allow_nan=False, separators=(",", ":")
+        )
+
+    # Keys in sorted order, one feature per line (readable diffs of committed examples).
+    body = ",\n".join(dump(f) for f in features)
+    text = (
+        f'{{"coordinate_system":{dump(system)},\n"features":[\n{body}\n],\n'
+        f'"networks":{dump(networks)},\n"type":"FeatureCollection"}}\n'
+    )
+    return write_text_atomic(path, text)
