@@ -1,0 +1,738 @@
+"""Drive vehicles through a network's curves in libsumo, each along its kinematic model.
+
+How a run is driven
+-------------------
+The kinematic model (:func:`analysis.tracking.simulate_batch`) decides where a vehicle is:
+SUMO has no wheelbase, steering lock or trailer dynamics, so it cannot compute that itself.
+SUMO is the stage: every run becomes one SUMO vehicle of its own vType, placed at every
+time step with ``vehicle.moveToXY(..., keepRoute=2)`` at the model's front-bumper centre
+and heading (navigational degrees), with the edge and lane the curve's centre line runs on
+at that station as the hint and a small ``matchThreshold``. Its route is the curve's normal
+edges. After each step SUMO's reported position (``vehicle.getPosition``, the front-bumper
+centre) is read back for every vehicle in flight and compared with the model: the largest
+deviation of each run is recorded (:attr:`DrivenRun.sumo_max_deviation_m`), and one beyond
+:attr:`DriveOptions.deviation_tolerance_m` is logged as a warning.
+
+Up to :attr:`DriveOptions.batch_size` runs are in flight at once (one vehicle per vehicle x
+curve run); a run that has played its last sample is removed and the next queued run's
+vehicle is added in its place. The model is computed a batch ahead. Every run has a bounded
+number of samples (the model's step cap), so the simulation ends.
+
+vTypes
+------
+One vType per vehicle model: length (the towing unit's body), width, height, a shape class
+by category (:func:`shape_class`), and our geometry as parameters (:func:`vtype_parameters`:
+wheelbase, overhangs, track, steering lock and rate, steered axle, trailer dimensions).
+
+Trailers
+--------
+A SUMO vehicle is one rigid body, so an articulated vehicle is shown as two SUMO vehicles:
+the towing unit ``<id>`` (its vType carries the trailer's dimensions as parameters) and the
+trailer ``<id>.trailer``, a vehicle of its own vType (the trailer body: hitch-to-rear
+length, width) placed at the model's trailer front (the kingpin plus the trailer's front
+overhang) and heading. SUMO knows nothing of the coupling; both positions come from the
+model and both are checked.
+
+Replay in sumo-gui
+-----------------
+With ``DriveOptions(fcd_output=...)`` (``clearance simulate --fcd``) SUMO writes its FCD
+output (every vehicle's front-bumper centre and angle at every step). SUMO's
+``tools/fcdReplay.py`` plays it back in sumo-gui (as moving points of interest) over the
+network named in a SUMO configuration (:func:`replay_config` writes one)::
+
+    python "$SUMO_HOME/tools/fcdReplay.py" -k replay.sumocfg -f fcd.xml
+
+(``SUMO_HOME`` is ``python -c "import sumo; print(sumo.SUMO_HOME)"``). Time in the FCD is
+the replay's: runs follow each other through the batch slots, and a run's last step,
+shortened by the model to land on the curve's end, takes a whole SUMO step.
+
+Errors
+------
+A SUMO error while placing one vehicle (``libsumo.TraCIException``) fails that run only: it
+is removed and recorded with the reason (:attr:`DrivenRun.error`); the others go on. An
+error in a simulation step, or a ``FatalTraCIError``, fails the runs then in flight; SUMO is
+restarted for the runs still queued (at most :attr:`DriveOptions.max_restarts` times).
+libsumo runs one simulation per process; :func:`drive` always closes it.
+"""
+
+from __future__ import annotations
+
+import difflib
+import logging
+import math
+import os
+from collections import deque
+from collections.abc import Iterator, Sequence
+from dataclasses import dataclass, field
+from pathlib import Path as FilePath
+
+import numpy as np
+
+from analysis.clearance import Areas, RunResult, evaluate
+from analysis.polyline import Path, prepare_path
+from analysis.tracking import TrackingRun, TrackingSettings, simulate_batch
+from networks.curves import Curve
+from networks.geometry import heading_rad_to_navigational
+from networks.reader import Network
+from vehicles.errors import InputError
+from vehicles.vehicle import Vehicle
+
+log = logging.getLogger(__name__)
+
+REPLAY_COMMAND = 'python "$SUMO_HOME/tools/fcdReplay.py" -k {config} -f {fcd}'
+"""How to replay an FCD file in sumo-gui (format with the config and FCD paths)."""
+
+
+def replay_config(net_path: str | os.PathLike[str], dt_s: float) -> str:
+    """A SUMO configuration for replaying FCD output over ``net_path`` (XML text).
+
+    Examples
+    --------
+    >>> print(replay_config("x.net.xml", 0.1))  # doctest: +NORMALIZE_WHITESPACE
+    <?xml version="1.0" encoding="UTF-8"?>
+    <configuration>
+        <input><net-file value="x.net.xml"/></input>
+        <time><step-length value="0.1"/></time>
+    </configuration>
+    """
+    from xml.sax.saxutils import quoteattr
+
+    return ('<?xml version="1.0" encoding="UTF-8"?>\n<configuration>\n'
+            f'    <input><net-file value={quoteattr(os.fspath(net_path))}/></input>\n'
+            f'    <time><step-length value="{dt_s!r}"/></time>\n</configuration>\n')
+
+
+@dataclass(frozen=True)
+class DriveOptions:
+    """How runs are driven through SUMO.
+
+    Attributes
+    ----------
+    batch_size
+        Runs (SUMO vehicles) in flight at once.
+    match_threshold_m
+        ``matchThreshold`` of ``moveToXY``: how far SUMO looks for a lane (small is fast).
+    deviation_tolerance_m
+        A run whose SUMO position leaves the model's by more than this is logged.
+    fcd_output
+        Write SUMO's FCD output here (``--fcd-output``), or ``None``.
+    offset_m
+        Clearance offset the envelopes are grown by before the verdict.
+    use_sumo
+        ``False`` computes the same runs without SUMO (model, envelopes, verdicts only).
+    max_restarts
+        Restarts of SUMO after a failed simulation step, before the queued runs fail too.
+    """
+
+    batch_size: int = 100
+    match_threshold_m: float = 1.0
+    deviation_tolerance_m: float = 0.01
+    fcd_output: str | os.PathLike[str] | None = None
+    offset_m: float = 0.0
+    use_sumo: bool = True
+    max_restarts: int = 2
+
+    def __post_init__(self) -> None:
+        if not (isinstance(self.batch_size, int) and self.batch_size >= 1):
+            raise InputError(f"drive options: batch_size must be >= 1, got {self.batch_size!r}")
+        for name in ("match_threshold_m", "deviation_tolerance_m"):
+            value = getattr(self, name)
+            if not (math.isfinite(value) and value > 0):
+                raise InputError(f"drive options: {name} must be > 0, got {value!r}")
+        if not (math.isfinite(self.offset_m) and self.offset_m >= 0):
+            raise InputError(f"clearance offset must be a number >= 0 m, got {self.offset_m!r}")
+
+
+@dataclass
+class DrivenRun:
+    """One vehicle x curve run: the model's result and how SUMO replayed it.
+
+    Attributes
+    ----------
+    vehicle, curve
+        What was driven where.
+    result
+        Model run, swept path and clearance (always computed).
+    sumo_steps
+        SUMO steps the vehicle was placed in (0 without SUMO).
+    sumo_max_deviation_m
+        Largest distance between SUMO's reported front-bumper centre and the model's
+        (``nan`` when the run was not driven through SUMO).
+    error
+        Why SUMO failed this run; empty when it did not.
+    """
+
+    vehicle: Vehicle
+    curve: Curve
+    result: RunResult | None = None
+    sumo_steps: int = 0
+    sumo_max_deviation_m: float = math.nan
+    error: str = ""
+    run: TrackingRun | None = field(default=None, repr=False)
+
+    @property
+    def verdict(self) -> str:
+        """The clearance verdict, or ``error`` when SUMO failed the run."""
+        if self.error or self.result is None:
+            return "error"
+        return self.result.verdict
+
+    @property
+    def reason(self) -> str:
+        """Why the verdict is what it is."""
+        if self.error:
+            return self.error
+        return self.result.clearance.reason if self.result is not None else ""
+
+
+# ----------------------------------------------------------------------------- naming
+
+
+def edge_of_lane(lane_id: str) -> str:
+    """The edge id of a lane id (``E1_0`` -> ``E1``; ``:J_3_0`` -> ``:J_3``).
+
+    Examples
+    --------
+    >>> edge_of_lane("XN_in_1"), edge_of_lane(":X_0_0")
+    ('XN_in', ':X_0')
+    """
+    edge, sep, index = lane_id.rpartition("_")
+    if not sep or not index.isdigit():
+        raise InputError(f"lane id {lane_id!r} does not end in _<index>")
+    return edge
+
+
+def lane_index(lane_id: str) -> int:
+    """The index of a lane within its edge (``E1_2`` -> 2).
+
+    Examples
+    --------
+    >>> lane_index(":X_0_1")
+    1
+    """
+    edge_of_lane(lane_id)
+    return int(lane_id.rpartition("_")[2])
+
+
+def route_edges(curve: Curve) -> list[str]:
+    """The curve's normal (non-internal) edges in driving order, without repeats in a row."""
+    edges: list[str] = []
+    for lane in curve.lanes:
+        e = edge_of_lane(lane)
+        if not e.startswith(":") and (not edges or edges[-1] != e):
+            edges.append(e)
+    if not edges:
+        raise InputError(f"curve {curve.curve_id}: no normal edge to route a vehicle on")
+    return edges
+
+
+def shape_class(category: str) -> str:
+    """SUMO ``guiShape`` for a table category.
+
+    Semitrailer combinations get ``truck``: their SUMO vehicle is the tractor alone (the
+    trailer is a second vehicle), and ``truck/semitrailer`` would draw a trailer on it.
+
+    Examples
+    --------
+    >>> shape_class("passenger car"), shape_class("school bus"), shape_class("SUV")
+    ('passenger', 'bus', 'passenger/van')
+    """
+    c = category.lower()
+    if "bus" in c:
+        return "bus"
+    if "truck" in c or "semitrailer" in c or "trailer" in c or "tractor" in c:
+        return "truck"
+    if "van" in c or "suv" in c or "pickup" in c:
+        return "passenger/van"
+    return "passenger"
+
+
+def vtype_parameters(vehicle: Vehicle) -> dict[str, str]:
+    """Our geometry as vType parameters (SUMO has no such attributes); metres, degrees.
+
+    Examples
+    --------
+    >>> car = Vehicle("car", 2.7, 1.5, 1.8, 0.9, 1.0, 0.6, 0.65, 0.5)
+    >>> p = vtype_parameters(car)
+    >>> p["wheelbase_m"], p["max_steer_deg"], "trailer_wheelbase_m" in p
+    ('2.7', '34.3775', False)
+    """
+    def f(v: float) -> str:
+        return f"{v:.6g}"
+
+    p = {
+        "wheelbase_m": f(vehicle.wheelbase_m),
+        "track_m": f(vehicle.track_m),
+        "front_overhang_m": f(vehicle.front_overhang_m),
+        "rear_overhang_m": f(vehicle.rear_overhang_m),
+        "max_steer_deg": f(math.degrees(vehicle.max_steer_rad)),
+        "max_inner_steer_deg": f(math.degrees(vehicle.max_inner_steer_rad)),
+        "max_steer_rate_deg_s": f(math.degrees(vehicle.max_steer_rate_rad_s)),
+        "steered_axle": vehicle.steered_axle,
+    }
+    t = vehicle.trailer
+    if t is not None:
+        p.update({
+            "trailer_hitch_offset_m": f(t.hitch_offset_m),
+            "trailer_wheelbase_m": f(t.wheelbase_m),
+            "trailer_width_m": f(t.width_m),
+            "trailer_front_overhang_m": f(t.front_overhang_m),
+            "trailer_rear_overhang_m": f(t.rear_overhang_m),
+            "trailer_max_articulation_deg": f(math.degrees(t.max_articulation_rad)),
+        })
+    return p
+
+
+def select_curves(curves: Sequence[Curve], ids: Sequence[str] | None) -> list[Curve]:
+    """The curves named ``ids`` (all when ``None`` or empty), in the order asked.
+
+    Raises
+    ------
+    InputError
+        An unknown id; the message lists close matches.
+    """
+    if not ids:
+        return list(curves)
+    by_id = {c.curve_id: c for c in curves}
+    out, problems = [], []
+    for cid in ids:
+        if cid in by_id:
+            out.append(by_id[cid])
+            continue
+        close = difflib.get_close_matches(cid, list(by_id), n=3, cutoff=0.5)
+        hint = f"; did you mean {', '.join(repr(c) for c in close)}?" if close else ""
+        problems.append(f"unknown curve {cid!r}{hint} ({len(by_id)} curves in the network, "
+                        "see `clearance curves`)")
+    if problems:
+        raise InputError("; ".join(problems))
+    return out
+
+
+def curve_areas(curve: Curve) -> Areas:
+    """The :class:`~analysis.clearance.Areas` of a curve (its own lanes, paved, roadway)."""
+    if curve.own_lanes is None or curve.paved is None:
+        raise InputError(f"curve {curve.curve_id}: no areas (extract curves with areas=True)")
+    try:
+        return Areas(curve.own_lanes, curve.paved, curve.roadway)
+    except InputError as exc:
+        raise InputError(f"curve {curve.curve_id}: {exc}") from None
+
+
+# ------------------------------------------------------------------------ placements
+
+
+def lane_boundaries_m(curve: Curve, path: Path, lane_ends: Sequence[np.ndarray]) -> np.ndarray:
+    """Stations on ``path`` where each lane of the curve but the last ends.
+
+    ``lane_ends[i]`` is the (x, y, z) end point of ``curve.lanes[i]``. Each is matched to
+    the path's nearest point in 3-D past the previous boundary (a helix passes over itself
+    in plan; its levels differ in z).
+    """
+    pts = np.column_stack([path.xy, path.z if path.z is not None else np.zeros(len(path.xy))])
+    out = []
+    start = 0
+    for end in lane_ends[:-1]:
+        p = np.asarray(end, dtype=float)
+        if p.shape[0] == 2:
+            p = np.append(p, 0.0 if path.z is None else pts[start, 2])
+        d = np.linalg.norm(pts[start:] - p, axis=1)
+        k = start + int(np.argmin(d))
+        out.append(float(path.station_m[k]))
+        start = k
+    return np.asarray(out)
+
+
+@dataclass
+class _Unit:
+    """One SUMO vehicle of a run (the towing unit, or the trailer), sample by sample.
+
+    ``start`` is the first sample whose point lies on the curve's own lanes: the vehicle is
+    added to SUMO and placed from then on, never before (libsumo 1.28 crashes writing FCD
+    output for a vehicle whose first placement is off every lane).
+    """
+
+    vid: str
+    vtype: str
+    x: np.ndarray
+    y: np.ndarray
+    angle: np.ndarray
+    start: int
+    edge: list[str] | None = None
+    lane: np.ndarray | None = None
+    added: bool = False
+
+
+@dataclass
+class _Plan:
+    """Everything the SUMO loop needs of one run."""
+
+    index: int
+    route: str
+    units: list[_Unit]
+    n: int
+    k: int = 0
+    max_dev: float = 0.0
+
+    @property
+    def vid(self) -> str:
+        return self.units[0].vid
+
+
+def first_on(area, x: np.ndarray, y: np.ndarray) -> int:
+    """Index of the first point inside ``area`` (shapely), or ``len(x)`` when none is."""
+    import shapely
+
+    inside = shapely.contains_xy(area, x, y)
+    hits = np.flatnonzero(inside)
+    return int(hits[0]) if len(hits) else len(x)
+
+
+def front_bumper(run: TrackingRun) -> tuple[np.ndarray, np.ndarray]:
+    """SUMO's reference point: the front-bumper centre, ahead of the front axle."""
+    tr = run.trajectory
+    a = run.vehicle.front_overhang_m
+    return tr.xf_m + a * np.cos(tr.theta_rad), tr.yf_m + a * np.sin(tr.theta_rad)
+
+
+def trailer_front(run: TrackingRun) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The trailer body's front-centre and heading (for its own SUMO vehicle)."""
+    tr, v = run.trajectory, run.vehicle
+    t = v.trailer
+    assert t is not None and tr.xt_m is not None and tr.theta_t_rad is not None
+    reach = t.wheelbase_m + t.front_overhang_m
+    return (tr.xt_m + reach * np.cos(tr.theta_t_rad), tr.yt_m + reach * np.sin(tr.theta_t_rad),
+            tr.theta_t_rad)
+
+
+# ------------------------------------------------------------------------------ drive
+
+
+def drive(
+    net: Network,
+    pairs: Sequence[tuple[Vehicle, Curve]],
+    settings: TrackingSettings | None = None,
+    options: DriveOptions | None = None,
+) -> list[DrivenRun]:
+    """Drive every (vehicle, curve) pair: model, SUMO replay and check, envelope, verdict.
+
+    Parameters
+    ----------
+    net
+        The network the curves came from (SUMO loads ``net.path``).
+    pairs
+        Vehicle and curve of each run; curves need their areas
+        (``extract_curves(net, ..., areas=True)``).
+    settings
+        Tracking settings of the model (time step = SUMO step length).
+    options
+        Batch size, FCD output, clearance offset, with or without SUMO.
+
+    Returns
+    -------
+    list of DrivenRun
+        One per pair, in order. A run SUMO failed has ``error`` set; the others are kept.
+    """
+    settings = settings or TrackingSettings()
+    options = options or DriveOptions()
+    pairs = list(pairs)
+    areas = {}
+    for _, c in pairs:
+        if c.curve_id not in areas:
+            areas[c.curve_id] = curve_areas(c)
+    if options.use_sumo and not FilePath(net.path).is_file():
+        raise InputError(f"{net.path}: no such network file")
+    out = [DrivenRun(v, c) for v, c in pairs]
+    paths: dict[str, Path] = {}
+    for _, c in pairs:
+        if c.curve_id not in paths:
+            paths[c.curve_id] = prepare_path(c.centerline, settings.spacing_m, name=c.curve_id)
+
+    def batches() -> Iterator[list[int]]:
+        for lo in range(0, len(pairs), options.batch_size):
+            idx = list(range(lo, min(lo + options.batch_size, len(pairs))))
+            runs = simulate_batch([pairs[i][0] for i in idx],
+                                  [paths[pairs[i][1].curve_id] for i in idx], settings)
+            for i, r in zip(idx, runs, strict=True):
+                out[i].run = r
+            yield idx
+
+    if options.use_sumo:
+        ends = {k: net.lanes[k].shape[-1] for _, c in pairs for k in c.lanes if k in net.lanes}
+        _SumoSession(net.path, out, paths, settings, options, ends).run(batches())
+    else:
+        for _ in batches():
+            pass
+    for d in out:
+        assert d.run is not None
+        d.result = evaluate(d.run, areas[d.curve.curve_id], options.offset_m)
+    return out
+
+
+class _SumoSession:
+    """The libsumo side of :func:`drive`: vTypes, routes, placements, checks, errors."""
+
+    def __init__(self, net_path, out: list[DrivenRun], paths: dict[str, Path],
+                 settings: TrackingSettings, options: DriveOptions,
+                 lane_ends: dict[str, np.ndarray]) -> None:
+        self.net_path = str(net_path)
+        self.out = out
+        self.paths = paths
+        self.settings = settings
+        self.options = options
+        self.lane_ends = lane_ends
+        self.traci = _import_libsumo()
+        self.vtypes: dict[str, str] = {}
+        self.routes: dict[str, str] = {}
+        self.bounds: dict[str, np.ndarray] = {}
+        self.restarts = 0
+
+    # -- lifecycle
+    def _start(self) -> None:
+        cmd = ["sumo", "-n", self.net_path, "--no-step-log", "true", "--no-warnings", "true",
+               "--collision.action", "none", "--time-to-teleport", "-1",
+               "--step-length", repr(self.settings.dt_s)]
+        if self.options.fcd_output is not None:
+            cmd += ["--fcd-output", os.fspath(self.options.fcd_output),
+                    "--fcd-output.attributes", "x,y,z,angle,type,speed"]
+        self.traci.start(cmd)
+        self.vtypes.clear()
+        self.routes.clear()
+
+    def run(self, batches: Iterator[list[int]]) -> None:
+        """Drive every run the batches yield (the model computed a batch ahead)."""
+        pending: deque[int] = deque()
+        active: dict[int, _Plan] = {}
+        source = iter(batches)
+        self._start()
+        try:
+            self._loop(source, pending, active)
+        except _GiveUp as exc:
+            reason = f"not driven: {exc} (SUMO restarted {self.options.max_restarts} times)"
+            for i in pending:
+                self._fail(i, f"v{i}", reason, 0, math.nan, remove=False)
+            for idx in source:  # the model still runs; SUMO does not
+                for i in idx:
+                    self._fail(i, f"v{i}", reason, 0, math.nan, remove=False)
+        finally:
+            try:
+                self.traci.close()
+            except Exception:  # noqa: BLE001 - closing a dead simulation must not mask
+                pass
+
+    def _loop(self, source: Iterator[list[int]], pending: deque[int],
+              active: dict[int, _Plan]) -> None:
+        """Fill the free slots, place everyone, step, check; until nothing is left.
+
+        Every iteration advances each run in flight by one sample or ends it, and a run
+        has at most the model's step cap of samples, so the loop ends.
+        """
+        t = self.traci
+        exhausted = False
+        while True:
+            while len(active) < self.options.batch_size:
+                if not pending and not exhausted:
+                    nxt = next(source, None)
+                    if nxt is None:
+                        exhausted = True
+                    else:
+                        pending.extend(nxt)
+                if not pending:
+                    break
+                i = pending.popleft()
+                plan = self._add(i)
+                if plan is not None:
+                    active[i] = plan
+            if not active:
+                return
+            for i, plan in list(active.items()):
+                if not self._place(plan):
+                    del active[i]
+            try:
+                t.simulationStep()
+            except (t.TraCIException, t.FatalTraCIError) as exc:
+                self._step_failed(active, exc)
+                active.clear()
+                continue
+            for i, plan in list(active.items()):
+                if not self._check(plan):
+                    del active[i]
+                elif plan.k >= plan.n:
+                    self._finish(plan)
+                    del active[i]
+
+    def _step_failed(self, active: dict[int, _Plan], exc: Exception) -> None:
+        t = self.traci
+        reason = f"SUMO simulation step failed: {exc}"
+        for plan in active.values():
+            d = self.out[plan.index]
+            d.error = f"{reason} (with {len(active)} vehicles in flight)"
+            d.sumo_steps = plan.k
+            d.sumo_max_deviation_m = plan.max_dev
+            log.warning("%s x %s: %s", d.vehicle.name, d.curve.curve_id, d.error)
+        try:
+            t.close()
+        except Exception:  # noqa: BLE001
+            pass
+        self.restarts += 1
+        if self.restarts > self.options.max_restarts:
+            raise _GiveUp(reason)
+        self._start()
+
+    # -- one run
+    def _vtype(self, v: Vehicle) -> tuple[str, str | None]:
+        t = self.traci
+        key = v.name
+        if key not in self.vtypes:
+            tid = f"vt{len(self.vtypes)}"
+            t.vehicletype.copy("DEFAULT_VEHTYPE", tid)
+            t.vehicletype.setLength(tid, v.length_m)
+            t.vehicletype.setWidth(tid, v.width_m)
+            if v.height_m is not None and math.isfinite(v.height_m):
+                t.vehicletype.setHeight(tid, v.height_m)
+            t.vehicletype.setShapeClass(tid, shape_class(v.category))
+            t.vehicletype.setParameter(tid, "model", v.name)
+            for k, val in vtype_parameters(v).items():
+                t.vehicletype.setParameter(tid, k, val)
+            if v.trailer is not None:
+                tt = f"{tid}.trailer"
+                t.vehicletype.copy("DEFAULT_VEHTYPE", tt)
+                t.vehicletype.setLength(tt, v.trailer.length_m)
+                t.vehicletype.setWidth(tt, v.trailer.width_m)
+                if v.height_m is not None and math.isfinite(v.height_m):
+                    t.vehicletype.setHeight(tt, v.height_m)
+                t.vehicletype.setShapeClass(tt, "truck")
+                t.vehicletype.setParameter(tt, "model", f"{v.name} (trailer)")
+            self.vtypes[key] = tid
+        tid = self.vtypes[key]
+        return tid, (f"{tid}.trailer" if v.trailer is not None else None)
+
+    def _route(self, curve: Curve) -> str:
+        if curve.curve_id not in self.routes:
+            rid = f"r{len(self.routes)}"
+            self.traci.route.add(rid, route_edges(curve))
+            self.routes[curve.curve_id] = rid
+        return self.routes[curve.curve_id]
+
+    def _hints(self, curve: Curve, stations: np.ndarray) -> tuple[list[str], np.ndarray]:
+        lanes = curve.lanes
+        if curve.curve_id not in self.bounds:
+            ends = [self.lane_ends.get(k) for k in lanes]
+            if any(e is None for e in ends):
+                self.bounds[curve.curve_id] = np.full(len(lanes) - 1, np.inf)
+            else:
+                self.bounds[curve.curve_id] = lane_boundaries_m(
+                    curve, self.paths[curve.curve_id], ends)
+        which = np.searchsorted(self.bounds[curve.curve_id], stations, side="right")
+        edges = [edge_of_lane(lanes[w]) for w in which]
+        return edges, np.array([lane_index(lanes[w]) for w in which], dtype=int)
+
+    def _add(self, i: int) -> _Plan | None:
+        d = self.out[i]
+        run = d.run
+        assert run is not None
+        vid = f"v{i}"
+        try:
+            tid, ttid = self._vtype(d.vehicle)
+            rid = self._route(d.curve)
+        except self.traci.TraCIException as exc:
+            self._fail(i, vid, f"SUMO refused the vehicle type or route: {exc}", 0, 0.0,
+                       remove=False)
+            return None
+        own = d.curve.own_lanes
+        x, y = front_bumper(run)
+        angle = np.asarray(heading_rad_to_navigational(run.trajectory.theta_rad))
+        edges, lanes = self._hints(d.curve, run.trajectory.s_m + d.vehicle.front_overhang_m)
+        units = [_Unit(vid, tid, x, y, angle, first_on(own, x, y), edges, lanes)]
+        if ttid is not None:
+            tx, ty, th_t = trailer_front(run)
+            units.append(_Unit(vid + ".trailer", ttid, tx, ty,
+                               np.asarray(heading_rad_to_navigational(th_t)),
+                               first_on(own, tx, ty)))
+        return _Plan(i, rid, units, len(x))
+
+    def _place(self, plan: _Plan) -> bool:
+        veh = self.traci.vehicle
+        k = plan.k
+        thr = self.options.match_threshold_m
+        try:
+            for u in plan.units:
+                if k < u.start:
+                    continue
+                if not u.added:
+                    veh.add(u.vid, plan.route, typeID=u.vtype, departPos="0")
+                    u.added = True
+                if u.edge is not None:
+                    edge, lane = u.edge[k], int(u.lane[k])
+                else:
+                    edge, lane = "", -1
+                veh.moveToXY(u.vid, edge, lane, float(u.x[k]), float(u.y[k]),
+                             float(u.angle[k]), keepRoute=2, matchThreshold=thr)
+        except self.traci.TraCIException as exc:
+            t_s = float(self.out[plan.index].run.trajectory.t_s[k])
+            self._fail(plan.index, plan.vid,
+                       f"SUMO could not place vehicle {plan.vid} at t = {t_s:.2f} s "
+                       f"(sample {k}): {exc}", k, plan.max_dev, plan)
+            return False
+        return True
+
+    def _check(self, plan: _Plan) -> bool:
+        veh = self.traci.vehicle
+        k = plan.k
+        try:
+            for u in plan.units:
+                if u.added:
+                    px, py = veh.getPosition(u.vid)
+                    plan.max_dev = max(plan.max_dev, math.hypot(px - u.x[k], py - u.y[k]))
+        except self.traci.TraCIException as exc:
+            self._fail(plan.index, plan.vid, f"SUMO lost vehicle {plan.vid} at sample {k}: "
+                       f"{exc}", k, plan.max_dev, plan)
+            return False
+        plan.k = k + 1
+        return True
+
+    def _finish(self, plan: _Plan) -> None:
+        d = self.out[plan.index]
+        d.sumo_steps = plan.k
+        d.sumo_max_deviation_m = plan.max_dev
+        if plan.max_dev > self.options.deviation_tolerance_m:
+            log.warning("%s x %s: SUMO's position left the model's by %.3f m (tolerance "
+                        "%.3f m)", d.vehicle.name, d.curve.curve_id, plan.max_dev,
+                        self.options.deviation_tolerance_m)
+        self._remove(plan)
+
+    def _fail(self, i: int, vid: str, reason: str, steps: int, dev: float,
+              plan: _Plan | None = None, remove: bool = True) -> None:
+        d = self.out[i]
+        d.error = reason
+        d.sumo_steps = steps
+        d.sumo_max_deviation_m = dev
+        log.warning("%s x %s: %s", d.vehicle.name, d.curve.curve_id, reason)
+        if remove and plan is not None:
+            self._remove(plan)
+
+    def _remove(self, plan: _Plan) -> None:
+        for u in plan.units:
+            if u.added:
+                try:
+                    self.traci.vehicle.remove(u.vid)
+                except self.traci.TraCIException:
+                    pass  # already gone
+                u.added = False
+
+
+class _GiveUp(Exception):
+    """SUMO failed more often than the restarts allow."""
+
+
+def _import_libsumo():
+    """libsumo with SUMO_HOME set from the ``eclipse-sumo`` package."""
+    from networks.sumo_tools import sumo_home
+
+    try:
+        os.environ.setdefault("SUMO_HOME", str(sumo_home()))
+        if not os.environ["SUMO_HOME"]:
+            os.environ["SUMO_HOME"] = str(sumo_home())
+        import libsumo
+    except (ImportError, FileNotFoundError) as exc:
+        raise InputError(f"libsumo is not available: {exc} (pip install libsumo)") from None
+    return libsumo
