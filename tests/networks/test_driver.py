@@ -1,0 +1,269 @@
+"""The libsumo driver on the sample networks: designed verdicts, SUMO agrees, errors isolated."""
+
+from __future__ import annotations
+
+import math
+import xml.etree.ElementTree as ET
+
+import numpy as np
+import pytest
+
+from networks import driver
+from networks.curves import extract_curves
+from networks.driver import DriveOptions, drive, select_curves
+from networks.reader import read_network
+from networks.samples import build as samples
+from vehicles.errors import InputError
+from vehicles.table import bundled_table, load_tables
+
+libsumo = pytest.importorskip("libsumo")
+
+
+@pytest.fixture(scope="module")
+def table():
+    return load_tables([bundled_table("aashto_green_book")])
+
+
+@pytest.fixture(scope="module")
+def nets():
+    out = {}
+    for name in ("intersection", "roundabout"):
+        net = read_network(samples.SAMPLES_DIR / name / f"{name}.net.xml")
+        kinds = ["turn"] if name == "intersection" else ["roundabout"]
+        out[name] = (net, extract_curves(net, kinds))
+    return out
+
+
+def _curve(curves, start: str, end: str):
+    """The curve whose id starts with ``start`` and contains ``end`` (lane indices vary)."""
+    hits = [c for c in curves if c.curve_id.startswith(start) and end in c.curve_id]
+    assert len(hits) == 1, (start, end, [c.curve_id for c in hits])
+    return hits[0]
+
+
+# What the samples were designed to show (networks/samples/sources.py, test_samples.py):
+# X's NW corner (9.5 m) suits a car but not a bus; the T's SW corner (4 m) is tighter than
+# any design vehicle's lock; roundabout R's truck apron takes the trucks' offtracking; the
+# compact roundabout C (ICD 26 m) is too small for a semitrailer.
+DESIGNED = [
+    ("intersection", "P", "turn:X:XN_in_0", "XW_out_0", "clear"),
+    ("intersection", "CITY-BUS", "turn:X:XN_in_0", "XW_out_0", "fails"),
+    ("intersection", "SU-30", "turn:T:TW_in_0", "TS_out_0", "cannot-turn"),
+    ("intersection", "WB-62", "turn:X:XN_in_0", "XS_out_0", "clear"),
+    ("roundabout", "P", "roundabout:R0:R0_in_", "R2_out_", "clear"),
+    ("roundabout", "SU-30", "roundabout:R0:R0_in_", "R2_out_", "encroaches"),
+    ("roundabout", "WB-40", "roundabout:R0:R0_in_", "R3_out_", "encroaches"),
+    ("roundabout", "WB-40", "roundabout:C0:C0_in_", "C2_out_", "cannot-turn"),
+]
+
+
+@pytest.fixture(scope="module")
+def driven(nets, table):
+    results = {}
+    for name in ("intersection", "roundabout"):
+        net, curves = nets[name]
+        rows = [d for d in DESIGNED if d[0] == name]
+        pairs = [(table.vehicle(v), _curve(curves, a, b)) for _, v, a, b, _ in rows]
+        for row, run in zip(rows, drive(net, pairs, options=DriveOptions(batch_size=3)),
+                            strict=True):
+            results[row] = run
+    return results
+
+
+@pytest.mark.parametrize("row", DESIGNED, ids=lambda r: f"{r[1]}@{r[2]}->{r[3]}")
+def test_designed_verdicts(driven, row):
+    run = driven[row]
+    assert run.error == ""
+    assert run.verdict == row[4], run.reason
+    margin = run.result.margin_m
+    assert (margin >= 0) == (row[4] == "clear")
+    if row[4] == "cannot-turn":  # a verdict with its reason, not an error
+        assert "front axle left the centre line" in run.reason or "articulation" in run.reason
+
+
+def test_sumo_positions_agree_with_the_model(driven):
+    for row, run in driven.items():
+        assert run.sumo_steps == len(run.run.trajectory), row
+        assert run.sumo_max_deviation_m < 1e-6, row
+
+
+def test_trailer_and_tractor_both_checked(nets, table):
+    net, curves = nets["roundabout"]
+    curve = _curve(curves, "roundabout:R0:R0_in_", "R2_out_")
+    wb = table.vehicle("WB-40")
+    placed: dict[str, int] = {}
+    real = libsumo.vehicle.moveToXY
+
+    def spy(vid, *args, **kwargs):
+        placed[vid] = placed.get(vid, 0) + 1
+        return real(vid, *args, **kwargs)
+
+    mp = pytest.MonkeyPatch()
+    mp.setattr(libsumo.vehicle, "moveToXY", spy)
+    try:
+        (run,) = drive(net, [(wb, curve)], options=DriveOptions())
+    finally:
+        mp.undo()
+    n = len(run.run.trajectory)
+    assert placed["v0"] == n
+    # the trailer joins once its front is on the curve's lanes, and stays to the end
+    assert 0 < placed["v0.trailer"] <= n
+    assert run.sumo_max_deviation_m < 1e-6
+
+
+def test_fcd_output_replays_the_model(nets, table, tmp_path):
+    net, curves = nets["intersection"]
+    curve = _curve(curves, "turn:X:XN_in_0", "XW_out_0")
+    fcd = tmp_path / "fcd.xml"
+    car = table.vehicle("P")
+    (run,) = drive(net, [(car, curve)], options=DriveOptions(fcd_output=fcd))
+    steps = ET.parse(fcd).getroot().findall("timestep")
+    assert len(steps) == len(run.run.trajectory)
+    x, y = driver.front_bumper(run.run)
+    for k in (0, len(steps) // 2, len(steps) - 1):
+        (veh,) = steps[k].findall("vehicle")
+        assert veh.get("id") == "v0"
+        assert float(veh.get("x")) == pytest.approx(x[k], abs=0.01)
+        assert float(veh.get("y")) == pytest.approx(y[k], abs=0.01)
+        heading = math.radians(90.0 - float(veh.get("angle")))
+        theta = run.run.trajectory.theta_rad[k]
+        assert math.remainder(heading - theta, 2 * math.pi) == pytest.approx(0.0, abs=1e-3)
+
+
+def test_without_sumo_same_verdicts(nets, table, driven):
+    net, curves = nets["intersection"]
+    rows = [d for d in DESIGNED if d[0] == "intersection"]
+    pairs = [(table.vehicle(v), _curve(curves, a, b)) for _, v, a, b, _ in rows]
+    plain = drive(net, pairs, options=DriveOptions(use_sumo=False))
+    for row, run in zip(rows, plain, strict=True):
+        assert run.verdict == driven[row].verdict
+        assert run.result.margin_m == driven[row].result.margin_m
+        assert math.isnan(run.sumo_max_deviation_m) and run.sumo_steps == 0
+
+
+def test_edge_hints_follow_the_curve(nets, table):
+    net, curves = nets["intersection"]
+    curve = _curve(curves, "turn:X:XN_in_0", "XW_out_0")
+    car = table.vehicle("P")
+    hints: list[str] = []
+    real = libsumo.vehicle.moveToXY
+
+    def spy(vid, edge, lane, *args, **kwargs):
+        if not hints or hints[-1] != edge:
+            hints.append(edge)
+        return real(vid, edge, lane, *args, **kwargs)
+
+    mp = pytest.MonkeyPatch()
+    mp.setattr(libsumo.vehicle, "moveToXY", spy)
+    try:
+        drive(net, [(car, curve)])
+    finally:
+        mp.undo()
+    assert hints == [driver.edge_of_lane(k) for k in curve.lanes]
+    assert driver.route_edges(curve) == ["XN_in", "XW_out"]
+
+
+def _pairs(nets, table, n: int):
+    net, curves = nets["intersection"]
+    straight = _curve(curves, "turn:X:XN_in_0", "XS_out_0")
+    return net, [(table.vehicle("P"), straight)] * n
+
+
+def test_vehicle_removed_behind_the_drivers_back(nets, table):
+    net, pairs = _pairs(nets, table, 4)
+    real = libsumo.vehicle.moveToXY
+    calls = {"n": 0}
+
+    def sabotage(vid, *args, **kwargs):
+        if vid == "v1":
+            calls["n"] += 1
+            if calls["n"] == 20:
+                libsumo.vehicle.remove("v1")
+        return real(vid, *args, **kwargs)
+
+    mp = pytest.MonkeyPatch()
+    mp.setattr(libsumo.vehicle, "moveToXY", sabotage)
+    try:
+        runs = drive(net, pairs, options=DriveOptions(batch_size=2))
+    finally:
+        mp.undo()
+    assert runs[1].verdict == "error"
+    assert "v1" in runs[1].error and "sample 19" in runs[1].error
+    assert runs[1].sumo_steps == 19
+    for i in (0, 2, 3):
+        assert runs[i].error == "" and runs[i].verdict == "clear"
+        assert runs[i].sumo_steps == len(runs[i].run.trajectory)
+    # the model's result is kept for the failed run too
+    assert runs[1].result.verdict == "clear"
+
+
+def test_failed_simulation_step_restarts_sumo(nets, table):
+    net, pairs = _pairs(nets, table, 3)
+    real = libsumo.simulationStep
+    calls = {"n": 0}
+
+    def flaky(*args, **kwargs):
+        calls["n"] += 1
+        if calls["n"] == 5:
+            raise libsumo.TraCIException("injected failure")
+        return real(*args, **kwargs)
+
+    mp = pytest.MonkeyPatch()
+    mp.setattr(libsumo, "simulationStep", flaky)
+    try:
+        runs = drive(net, pairs, options=DriveOptions(batch_size=1))
+    finally:
+        mp.undo()
+    assert "injected failure" in runs[0].error and runs[0].sumo_steps == 4
+    assert [r.verdict for r in runs[1:]] == ["clear", "clear"]
+    assert all(r.sumo_max_deviation_m < 1e-6 for r in runs[1:])
+
+
+def test_sumo_failing_every_step_never_hangs(nets, table):
+    net, pairs = _pairs(nets, table, 5)
+
+    def broken(*args, **kwargs):
+        raise libsumo.TraCIException("always broken")
+
+    mp = pytest.MonkeyPatch()
+    mp.setattr(libsumo, "simulationStep", broken)
+    try:
+        runs = drive(net, pairs, options=DriveOptions(batch_size=2, max_restarts=1))
+    finally:
+        mp.undo()
+    assert all(r.verdict == "error" for r in runs)
+    assert "always broken" in runs[0].error
+    assert "not driven" in runs[4].error
+    assert all(r.result is not None for r in runs)  # the model still ran
+
+
+def test_unknown_curve_lists_close_matches(nets):
+    _, curves = nets["intersection"]
+    with pytest.raises(InputError, match=r"unknown curve 'turn:X:XN_in_0->XW_out_1'; "
+                                         r"did you mean 'turn:X:XN_in_0->XW_out_0'"):
+        select_curves(curves, ["turn:X:XN_in_0->XW_out_1"])
+    picked = select_curves(curves, ["turn:T:TW_in_0->TS_out_0", "turn:X:XN_in_0->XW_out_0"])
+    assert [c.curve_id for c in picked] == ["turn:T:TW_in_0->TS_out_0",
+                                            "turn:X:XN_in_0->XW_out_0"]
+
+
+def test_vtype_parameters_carry_the_trailer(table):
+    p = driver.vtype_parameters(table.vehicle("WB-62"))
+    assert float(p["wheelbase_m"]) == pytest.approx(19.5 * 0.3048, abs=1e-4)
+    assert float(p["trailer_wheelbase_m"]) == pytest.approx(41.0 * 0.3048, abs=1e-4)
+    assert driver.shape_class("semitrailer combination") == "truck"
+    assert driver.shape_class("single-unit truck") == "truck"
+
+
+def test_lane_boundaries_on_a_helix_use_elevation():
+    net = read_network(samples.SAMPLES_DIR / "parking_ramp" / "parking_ramp.net.xml")
+    (ramp,) = extract_curves(net, ["ramp"], areas=False)
+    from analysis.polyline import prepare_path
+
+    path = prepare_path(ramp.centerline, 0.25, name=ramp.curve_id)
+    ends = [net.lanes[k].shape[-1] for k in ramp.lanes]
+    bounds = driver.lane_boundaries_m(ramp, path, ends)
+    assert np.all(np.diff(bounds) >= 0) and bounds[0] == pytest.approx(25.0, abs=0.3)
+    # the helix lane ends at the top, not where the plan view first passes over its end
+    helix = ramp.lanes.index("helix_0")
+    assert bounds[helix] > ramp.core_end_m - 1.0
