@@ -1,0 +1,302 @@
+"""``clearance simulate``: drive vehicles through a network's curves in SUMO and judge them.
+
+Each vehicle x curve run follows the curve's centre line with its kinematic model, is
+replayed in libsumo (:mod:`networks.driver`), and gets an envelope and a verdict. With
+``-o DIR`` it writes, atomically and byte-identically for identical inputs:
+
+``DIR/results.csv``
+    One row per run (:data:`RESULT_COLUMNS`), lengths in metres.
+``DIR/envelopes.geojson``
+    One feature per run: the swept envelope, in the network's local plane coordinates
+    (metres, x east, y north, after netOffset; not WGS84, see its ``crs_note``).
+``DIR/trajectories/<vehicle>__<curve>.csv``
+    The model's states of each run (:data:`TRAJECTORY_COLUMNS`); file names keep letters,
+    digits, ``.``, ``-`` and ``_`` (anything else becomes ``_``).
+``DIR/fcd.xml`` and ``DIR/replay.sumocfg`` (with ``--fcd``)
+    SUMO's FCD output and a configuration to replay it in sumo-gui (the command is printed).
+"""
+
+from __future__ import annotations
+
+import argparse
+import csv
+import hashlib
+import io
+import json
+import math
+import os
+import re
+from collections.abc import Iterable, Sequence
+from pathlib import Path
+
+import numpy as np
+import shapely
+
+from analysis.tracking import TrackingSettings
+from networks.curves import KINDS, extract_curves
+from networks.driver import (
+    REPLAY_COMMAND,
+    DrivenRun,
+    DriveOptions,
+    drive,
+    replay_config,
+    select_curves,
+)
+from networks.reader import read_network
+from reports.atomic import write_text_atomic
+from vehicles.errors import InputError
+from vehicles.table import load_tables
+
+#: Columns of ``results.csv``.
+RESULT_COLUMNS = (
+    "vehicle",
+    "curve_id",
+    "kind",
+    "verdict",
+    "margin_m",
+    "paved_margin_m",
+    "max_offtracking_m",
+    "max_tracking_error_m",
+    "swept_width_m",
+    "sumo_max_deviation_m",
+    "sumo_steps",
+    "reason",
+)
+
+#: Columns of a trajectory CSV (the trailer's only for a vehicle with one).
+TRAJECTORY_COLUMNS = ("t_s", "s_m", "x_m", "y_m", "theta_rad", "phi_rad", "xf_m", "yf_m",
+                      "error_m", "speed_m_s")
+TRAILER_COLUMNS = ("xt_m", "yt_m", "theta_t_rad", "psi_rad")
+
+CRS_NOTE = ("Local plane coordinates of the SUMO network {net} in metres (x east, y north, "
+            "after the network's netOffset); not WGS84 longitude/latitude.")
+
+
+def add_parser(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParser:
+    """Register ``simulate`` with the ``clearance`` command."""
+    p = subparsers.add_parser(
+        "simulate",
+        help="drive vehicles through a network's curves in SUMO and judge the clearance",
+        description=(
+            "Drive each vehicle along each curve's centre line with its kinematic model, "
+            "replay it in SUMO (libsumo) and check SUMO's positions, then measure the swept "
+            "envelope against the curve's lanes and paved area: clear, encroaches, fails "
+            "or cannot-turn. Lengths in metres."
+        ),
+    )
+    p.add_argument("-n", "--net", required=True, type=Path, help=".net.xml or .net.xml.gz")
+    p.add_argument("-t", "--table", action="append", metavar="TABLE.csv",
+                   help="vehicle table (repeatable); default: every bundled table")
+    p.add_argument("--vehicle", action="append", required=True, metavar="NAME",
+                   help="vehicle to drive (repeatable)")
+    p.add_argument("--curve", action="append", metavar="ID",
+                   help="only this curve (repeatable; ids as `clearance curves` lists them)")
+    p.add_argument("--kind", action="append", choices=KINDS,
+                   help="only curves of this kind (repeatable; default: all)")
+    p.add_argument("-o", "--output", type=Path, metavar="DIR",
+                   help="write results.csv, envelopes.geojson and trajectories/ here")
+    p.add_argument("--clearance", type=float, default=0.0, metavar="M",
+                   help="clearance offset the envelope is grown by (default %(default)s m)")
+    p.add_argument("--fcd", action="store_true",
+                   help="also write SUMO's FCD output (DIR/fcd.xml) for sumo-gui")
+    p.add_argument("--no-sumo", action="store_true",
+                   help="compute the runs without SUMO (model, envelopes and verdicts only)")
+    p.add_argument("--batch", type=int, default=DriveOptions.batch_size, metavar="N",
+                   help="vehicles in flight in SUMO at once (default %(default)s)")
+    p.add_argument("--limit", type=int, default=60, metavar="N",
+                   help="print at most N rows (default %(default)s)")
+    p.set_defaults(run=run)
+    return p
+
+
+def run(args: argparse.Namespace) -> int:
+    """Load, drive, print the summary, write the outputs."""
+    if not (math.isfinite(args.clearance) and args.clearance >= 0):
+        raise InputError(f"--clearance must be a length >= 0 m, not {args.clearance}")
+    if args.batch < 1:
+        raise InputError(f"--batch must be >= 1, not {args.batch}")
+    if args.fcd and args.output is None:
+        raise InputError("--fcd needs an output folder (-o DIR)")
+    if args.fcd and args.no_sumo:
+        raise InputError("--fcd needs SUMO; drop --no-sumo")
+    table = load_tables(args.table, list(dict.fromkeys(args.vehicle)))
+    vehicles = [table.vehicle(n) for n in dict.fromkeys(args.vehicle)]
+    net = read_network(args.net)
+    curves = select_curves(extract_curves(net, args.kind or KINDS), args.curve)
+    if not curves:
+        raise InputError(f"{args.net}: no curves of kind {', '.join(args.kind or KINDS)}")
+    fcd = args.output / "fcd.xml" if args.fcd else None
+    fcd_tmp = None
+    if fcd is not None:
+        fcd.parent.mkdir(parents=True, exist_ok=True)
+        fcd_tmp = fcd.with_name(".fcd.xml.tmp")  # SUMO writes here; renamed when complete
+    settings = TrackingSettings()
+    options = DriveOptions(batch_size=args.batch, offset_m=args.clearance,
+                           use_sumo=not args.no_sumo, fcd_output=fcd_tmp)
+    runs = drive(net, [(v, c) for v in vehicles for c in curves], settings, options)
+    if fcd is not None and fcd_tmp is not None:
+        os.replace(fcd_tmp, fcd)
+    rows = [result_row(r) for r in runs]
+    print_summary(rows, args.limit)
+    if args.output is not None:
+        write_outputs(args.output, runs, rows, net.path)
+        if fcd is not None:
+            config = write_text_atomic(args.output / "replay.sumocfg",
+                                       replay_config(Path(net.path).resolve(), settings.dt_s))
+            print("replay in sumo-gui: " + REPLAY_COMMAND.format(config=config, fcd=fcd))
+        print(f"wrote {len(rows)} run(s) to {args.output}")
+    return 0
+
+
+# ------------------------------------------------------------------------------- rows
+
+
+def _num(value: float | None, digits: int = 3) -> str:
+    """A fixed-point number; ``nan``/``None`` is empty, ``-0.000`` is ``0.000``."""
+    if value is None or not math.isfinite(value):
+        return "" if value is None or math.isnan(value) else str(value)
+    text = f"{value:.{digits}f}"
+    return text[1:] if text.startswith("-") and float(text) == 0 else text
+
+
+def result_row(r: DrivenRun) -> dict[str, str]:
+    """One ``results.csv`` row (metres to the millimetre)."""
+    res = r.result
+    assert res is not None
+    return {
+        "vehicle": r.vehicle.name,
+        "curve_id": r.curve.curve_id,
+        "kind": r.curve.kind,
+        "verdict": r.verdict,
+        "margin_m": _num(res.clearance.margin_m),
+        "paved_margin_m": _num(res.clearance.paved_margin_m),
+        "max_offtracking_m": _num(res.swept.max_offtracking_m),
+        "max_tracking_error_m": _num(res.run.max_error_m),
+        "swept_width_m": _num(res.swept.max_swept_width_m),
+        "sumo_max_deviation_m": _num(r.sumo_max_deviation_m, 4),
+        "sumo_steps": str(r.sumo_steps),
+        "reason": r.reason,
+    }
+
+
+def csv_text(rows: Iterable[dict[str, str]], columns: Sequence[str]) -> str:
+    """CSV with ``\\n`` line ends."""
+    buf = io.StringIO()
+    w = csv.DictWriter(buf, fieldnames=list(columns), lineterminator="\n")
+    w.writeheader()
+    w.writerows(rows)
+    return buf.getvalue()
+
+
+def safe_name(text: str) -> str:
+    """A file-name-safe version of ``text``.
+
+    Examples
+    --------
+    >>> safe_name("turn:X:XN_in_0->XW_out_0")
+    'turn_X_XN_in_0-_XW_out_0'
+    >>> safe_name("2008 Chrysler Town & Country")
+    '2008_Chrysler_Town___Country'
+    """
+    return re.sub(r"[^A-Za-z0-9._-]", "_", text).strip(".") or "_"
+
+
+def trajectory_files(runs: Sequence[DrivenRun]) -> list[str]:
+    """``<vehicle>__<curve>.csv`` for each run, unique (a short hash resolves clashes)."""
+    names = [f"{safe_name(r.vehicle.name)}__{safe_name(r.curve.curve_id)}" for r in runs]
+    seen: dict[str, int] = {}
+    for n in names:
+        seen[n] = seen.get(n, 0) + 1
+    out = []
+    for n, r in zip(names, runs, strict=True):
+        if seen[n] > 1:
+            key = f"{r.vehicle.name}\0{r.curve.curve_id}".encode()
+            n = f"{n}-{hashlib.sha1(key).hexdigest()[:8]}"
+        out.append(n + ".csv")
+    return out
+
+
+def trajectory_csv(r: DrivenRun) -> str:
+    """The model's states of one run as CSV (4 decimals)."""
+    tr = r.run.trajectory if r.run is not None else None
+    assert tr is not None
+    cols = list(TRAJECTORY_COLUMNS)
+    if tr.xt_m is not None:
+        cols += TRAILER_COLUMNS
+    data = np.column_stack([getattr(tr, c) for c in cols])
+    data = np.round(data, 4) + 0.0  # + 0.0 turns -0.0 into 0.0
+    lines = [",".join(cols)]
+    lines += [",".join(f"{v:.4f}" for v in row) for row in data]
+    return "\n".join(lines) + "\n"
+
+
+def _rounded(coords, digits: int = 3):
+    if isinstance(coords, (list, tuple)) and coords and isinstance(coords[0], (int, float)):
+        return [round(float(c), digits) + 0.0 for c in coords]
+    return [_rounded(c, digits) for c in coords]
+
+
+def envelopes_geojson(runs: Sequence[DrivenRun], rows: Sequence[dict[str, str]],
+                      net_path: str | Path) -> str:
+    """The runs' swept envelopes as a GeoJSON FeatureCollection in local metres."""
+    features = []
+    for r, row in zip(runs, rows, strict=True):
+        geom = shapely.geometry.mapping(r.result.swept.envelope)
+        features.append({
+            "type": "Feature",
+            "geometry": {"type": geom["type"], "coordinates": _rounded(geom["coordinates"])},
+            "properties": {
+                "vehicle": row["vehicle"],
+                "curve_id": row["curve_id"],
+                "kind": row["kind"],
+                "verdict": row["verdict"],
+                "margin_m": float(row["margin_m"]),
+                "clearance_offset_m": r.result.clearance.offset_m,
+            },
+        })
+    doc = {
+        "type": "FeatureCollection",
+        "crs_note": CRS_NOTE.format(net=Path(net_path).name),
+        "features": features,
+    }
+    return json.dumps(doc, sort_keys=True, separators=(",", ":")) + "\n"
+
+
+def write_outputs(out_dir: Path, runs: Sequence[DrivenRun], rows: Sequence[dict[str, str]],
+                  net_path: str | Path) -> None:
+    """results.csv, envelopes.geojson and one trajectory CSV per run, each atomically."""
+    for r, name in zip(runs, trajectory_files(runs), strict=True):
+        write_text_atomic(out_dir / "trajectories" / name, trajectory_csv(r))
+    write_text_atomic(out_dir / "envelopes.geojson", envelopes_geojson(runs, rows, net_path))
+    write_text_atomic(out_dir / "results.csv", csv_text(rows, RESULT_COLUMNS))
+
+
+# ---------------------------------------------------------------------------- summary
+
+
+def print_summary(rows: Sequence[dict[str, str]], limit: int) -> None:
+    """Counts per verdict and an aligned table, worst first."""
+    order = {"error": 0, "cannot-turn": 1, "fails": 2, "encroaches": 3, "clear": 4}
+    counts = {v: sum(1 for r in rows if r["verdict"] == v) for v in order}
+    print(f"{len(rows)} run(s): " + ", ".join(f"{n} {v}" for v, n in counts.items() if n))
+    if not rows:
+        return
+    shown = sorted(rows, key=lambda r: (order.get(r["verdict"], 9),
+                                        float(r["margin_m"] or 0), r["vehicle"], r["curve_id"]))
+    shown = shown[: max(limit, 0)]
+    cols = ("vehicle", "curve_id", "verdict", "margin_m", "max_offtracking_m",
+            "swept_width_m", "sumo_max_deviation_m")
+    heads = ("vehicle", "curve", "verdict", "margin [m]", "offtracking [m]", "swept [m]",
+             "SUMO dev [m]")
+    widths = [max(len(h), *(len(r[c]) for r in shown)) for h, c in zip(heads, cols, strict=True)]
+    print(_line(heads, widths))
+    for r in shown:
+        print(_line([r[c] for c in cols], widths))
+    if len(rows) > len(shown):
+        print(f"... {len(rows) - len(shown)} more (worst first; see results.csv)")
+
+
+def _line(cells: Sequence[str], widths: Sequence[int]) -> str:
+    parts = [v.ljust(w) if i < 3 else v.rjust(w)
+             for i, (v, w) in enumerate(zip(cells, widths, strict=True))]
+    return "  ".join(parts).rstrip()

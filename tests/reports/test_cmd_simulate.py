@@ -1,0 +1,138 @@
+"""``clearance simulate``: outputs, determinism, summary and bad input."""
+
+from __future__ import annotations
+
+import csv
+import json
+from types import SimpleNamespace
+
+import numpy as np
+import pytest
+
+from networks.samples import build as samples
+from reports import cmd_simulate
+from reports.cli import main
+from vehicles.table import bundled_table
+
+pytest.importorskip("libsumo")
+
+NET = samples.SAMPLES_DIR / "intersection" / "intersection.net.xml"
+TABLE = bundled_table("aashto_green_book")
+CURVES = ("turn:X:XN_in_0->XW_out_0", "turn:T:TW_in_0->TS_out_0")
+ARGS = ["simulate", "-n", str(NET), "-t", str(TABLE), "--vehicle", "P", "--vehicle",
+        "CITY-BUS", "--curve", CURVES[0], "--curve", CURVES[1]]
+
+
+@pytest.fixture(scope="module")
+def outputs(tmp_path_factory):
+    out = tmp_path_factory.mktemp("sim")
+    first, second = out / "a", out / "b"
+    assert main([*ARGS, "-o", str(first), "--fcd"]) == 0
+    assert main([*ARGS, "-o", str(second)]) == 0
+    return first, second
+
+
+def _results(folder):
+    with open(folder / "results.csv", newline="") as fh:
+        return {(r["vehicle"], r["curve_id"]): r for r in csv.DictReader(fh)}
+
+
+def test_results_hold_the_designed_verdicts(outputs):
+    rows = _results(outputs[0])
+    assert list(next(iter(rows.values())))[: len(cmd_simulate.RESULT_COLUMNS)] == list(
+        cmd_simulate.RESULT_COLUMNS)
+    assert rows[("P", CURVES[0])]["verdict"] == "clear"
+    assert rows[("CITY-BUS", CURVES[0])]["verdict"] == "fails"
+    assert rows[("CITY-BUS", CURVES[1])]["verdict"] == "cannot-turn"
+    assert "front axle left the centre line" in rows[("CITY-BUS", CURVES[1])]["reason"]
+    for r in rows.values():
+        assert float(r["sumo_max_deviation_m"]) < 1e-4
+        assert int(r["sumo_steps"]) > 100
+        assert (float(r["margin_m"]) >= 0) == (r["verdict"] == "clear")
+    bus = rows[("CITY-BUS", CURVES[0])]
+    # the bus offtracks more than half a metre on a 9.5 m corner and sweeps over 3 m
+    assert float(bus["max_offtracking_m"]) > 0.5
+    assert 3.0 < float(bus["swept_width_m"]) < 8.0
+
+
+def test_outputs_are_byte_identical_between_runs(outputs):
+    a, b = outputs
+    for name in ("results.csv", "envelopes.geojson"):
+        assert (a / name).read_bytes() == (b / name).read_bytes(), name
+    files = sorted(p.name for p in (a / "trajectories").iterdir())
+    assert files == sorted(p.name for p in (b / "trajectories").iterdir())
+    assert len(files) == 4 and "CITY-BUS__turn_X_XN_in_0-_XW_out_0.csv" in files
+    for f in files:
+        assert (a / "trajectories" / f).read_bytes() == (b / "trajectories" / f).read_bytes()
+
+
+def test_geojson_envelopes_in_local_metres(outputs):
+    doc = json.loads((outputs[0] / "envelopes.geojson").read_text())
+    assert "metres" in doc["crs_note"] and "not WGS84" in doc["crs_note"]
+    assert len(doc["features"]) == 4
+    feat = next(f for f in doc["features"]
+                if f["properties"]["vehicle"] == "P" and f["properties"]["curve_id"] == CURVES[0])
+    assert feat["properties"]["verdict"] == "clear"
+    ring = np.array(feat["geometry"]["coordinates"][0])
+    # junction X is centred on the origin: the car's turn lies in its NW quadrant
+    assert ring[:, 0].min() > -60 and ring[:, 0].max() < 5
+    assert ring[:, 1].min() > -5 and ring[:, 1].max() < 60
+
+
+def test_trajectory_csv_starts_on_the_centre_line(outputs):
+    text = (outputs[0] / "trajectories" / "P__turn_X_XN_in_0-_XW_out_0.csv").read_text()
+    lines = text.splitlines()
+    assert lines[0].split(",")[:4] == ["t_s", "s_m", "x_m", "y_m"]
+    first = dict(zip(lines[0].split(","), map(float, lines[1].split(",")), strict=True))
+    last = dict(zip(lines[0].split(","), map(float, lines[-1].split(",")), strict=True))
+    # the front axle starts on the approach lane's centre (x = -4.88) heading south
+    assert first["xf_m"] == pytest.approx(-4.88, abs=1e-3) and first["t_s"] == 0.0
+    assert first["theta_rad"] == pytest.approx(-np.pi / 2, abs=1e-3)
+    # and leaves heading west after the right turn
+    assert abs(last["theta_rad"] % (2 * np.pi) - np.pi) < 0.05
+
+
+def test_fcd_and_replay_config(outputs, capsys):
+    a, b = outputs
+    fcd = (a / "fcd.xml").read_text()
+    assert "<timestep" in fcd and 'id="v0"' in fcd
+    assert 'net-file value="' in (a / "replay.sumocfg").read_text()
+    assert not (b / "fcd.xml").exists()
+    assert not list(a.glob(".*tmp"))
+
+
+def test_summary_printed(tmp_path, capsys):
+    assert main([*ARGS[:-4], "--curve", CURVES[1], "--no-sumo"]) == 0
+    out = capsys.readouterr().out
+    assert "2 run(s): 1 cannot-turn, 1 fails" in out
+    assert out.index("CITY-BUS") < out.index("\nP ")  # worst first
+
+
+@pytest.mark.parametrize("extra, message", [
+    (["--vehicle", "WB-41"], "unknown vehicle 'WB-41'; did you mean 'WB-40'"),
+    (["--curve", "turn:X:XN_in_0->XW_out_1"],
+     "unknown curve 'turn:X:XN_in_0->XW_out_1'; did you mean 'turn:X:XN_in_0->XW_out_0'"),
+    (["--clearance", "-1"], "--clearance must be a length >= 0 m"),
+    (["--fcd"], "--fcd needs an output folder"),
+])
+def test_bad_input_exits_2(extra, message, capsys):
+    args = ["simulate", "-n", str(NET), "-t", str(TABLE), "--vehicle", "P", *extra]
+    assert main(args) == 2
+    err = capsys.readouterr().err
+    assert message in err and "Traceback" not in err
+
+
+def test_missing_network_exits_2(tmp_path, capsys):
+    assert main(["simulate", "-n", str(tmp_path / "none.net.xml"), "--vehicle", "P"]) == 2
+    assert "none.net.xml" in capsys.readouterr().err
+
+
+def test_trajectory_file_names_are_safe_and_unique():
+    assert cmd_simulate.safe_name("a/b:c") == "a_b_c"
+    assert cmd_simulate.safe_name("..") == "_"
+    runs = [SimpleNamespace(vehicle=SimpleNamespace(name=n), curve=SimpleNamespace(curve_id=c))
+            for n, c in (("a b", "turn:J"), ("a_b", "turn:J"), ("car", "turn:J"))]
+    names = cmd_simulate.trajectory_files(runs)
+    assert len(set(names)) == 3
+    assert names[2] == "car__turn_J.csv"
+    assert names[0].startswith("a_b__turn_J-") and names[0].endswith(".csv")
