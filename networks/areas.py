@@ -5,8 +5,9 @@
     drives on, trimmed to the part the centre line covers.
 
 Lane polygons in ``roadway`` and ``paved`` have round ends, so that lanes meeting at an
-angle leave no wedge uncovered on the outside of the joint, and both areas are grown by
-:data:`SEAL_M` (1 mm) to seal the hairline cracks a union of touching polygons can leave;
+angle leave no wedge uncovered on the outside of the joint; lanes and junction polygons
+are grown by :data:`SEAL_M` (1 mm) so that they overlap rather than touch (a union of
+touching polygons can keep hairline cracks);
 holes under :data:`MIN_HOLE_M2` (wedges between lane pieces) are filled.
 ``roadway``
     Everything a vehicle going the same way could use: the curve's lanes, all road lanes
@@ -35,10 +36,12 @@ from typing import TYPE_CHECKING
 import numpy as np
 import shapely
 
-from networks.paths import junction_of_internal
+from networks.paths import junction_of_internal, via_lanes
 from networks.reader import Network
 
-#: ``roadway`` and ``paved`` are grown by this much (metres) to seal hairline cracks.
+#: The polygons ``roadway`` and ``paved`` are made of are grown by this much (metres), so
+#: that they overlap where they would touch: a union of touching polygons can keep hairline
+#: cracks, and a point of the boundary then lies inside the area.
 SEAL_M = 1e-3
 
 #: Holes in ``roadway`` and ``paved`` smaller than this (m²) are gaps between lane pieces,
@@ -49,10 +52,13 @@ if TYPE_CHECKING:
     from networks.curves import Curve
 
 
-def lane_polygons(net: Network, lane_ids: Sequence[str], cap_style: str = "flat") -> np.ndarray:
+def lane_polygons(
+    net: Network, lane_ids: Sequence[str], cap_style: str = "flat", grow_m: float = 0.0
+) -> np.ndarray:
     """Polygons of lanes: each shape buffered by half its width (vectorised).
 
-    With ``cap_style="round"`` the ends are half discs: where two lanes meet at an angle,
+    ``grow_m`` widens every lane by that much on each side. With ``cap_style="round"``
+    the ends are half discs: where two lanes meet at an angle,
     the wedge that flat ends leave open on the outside of the bend is covered (the areas
     use this; it also reaches half a lane width past a dead end).
 
@@ -74,7 +80,9 @@ def lane_polygons(net: Network, lane_ids: Sequence[str], cap_style: str = "flat"
     index = np.repeat(np.arange(len(shapes)), counts)
     lines = shapely.linestrings(np.vstack(shapes), indices=index)
     widths = np.array([net.lanes[k].width_m for k in lane_ids])
-    return shapely.buffer(lines, widths / 2.0, cap_style=cap_style, join_style="round", quad_segs=4)
+    return shapely.buffer(
+        lines, widths / 2.0 + grow_m, cap_style=cap_style, join_style="round", quad_segs=4
+    )
 
 
 def own_lane_polygons(curves: Sequence[Curve]) -> np.ndarray:
@@ -105,8 +113,9 @@ class _Catalogue:
         return i
 
     def build(self) -> np.ndarray:
+        """Lane polygons (round ends) and junction polygons, all grown by :data:`SEAL_M`."""
         lanes = [k[2:] for k in self.keys if k.startswith("L:")]
-        lane_geoms = iter(lane_polygons(self.net, lanes, "round"))
+        lane_geoms = iter(lane_polygons(self.net, lanes, "round", grow_m=SEAL_M))
         out = np.empty(len(self.keys), dtype=object)
         for i, k in enumerate(self.keys):
             if k.startswith("L:"):
@@ -115,25 +124,33 @@ class _Catalogue:
                 shape = self.net.junctions[k[2:]].shape
                 poly = shapely.Polygon(shape[:, :2]) if len(shape) >= 3 else None
                 out[i] = shapely.make_valid(poly) if poly is not None else None
+        junctions = np.array([k.startswith("J:") for k in self.keys], dtype=bool)
+        if junctions.any():
+            out[junctions] = shapely.buffer(out[junctions], SEAL_M, quad_segs=1, join_style="mitre")
         return out
 
 
-def _union_rows(groups: list[list[int]], geoms: np.ndarray) -> np.ndarray:
-    """Union each group of catalogue entries (one ``union_all`` call per size bucket)."""
+def _union_rows(groups: list[list[int]], geoms: np.ndarray, seal: bool = True) -> np.ndarray:
+    """Union each group of entries (one ``union_all`` call per group size).
+
+    With ``seal``, the results are cleared of small holes.
+    """
     out = np.empty(len(groups), dtype=object)
     if not groups:
         return out
     sizes = np.array([len(g) for g in groups])
     for size in np.unique(sizes):
         rows = np.flatnonzero(sizes == size)
+        if size == 1:
+            out[rows] = geoms[[groups[g][0] for g in rows]]
+            continue
         table = np.empty((len(rows), int(size)), dtype=object)
         for r, g in enumerate(rows):
             table[r, :] = geoms[groups[g]]
         out[rows] = shapely.union_all(table, axis=1)
-    # close the hairline cracks a union of touching polygons can leave (a crack where two
-    # lanes' ends meet makes a point of the boundary lie inside the area)
-    sealed = shapely.buffer(out, SEAL_M, quad_segs=1, join_style="mitre")
-    return np.array([_fill_small_holes(g) for g in sealed], dtype=object)
+    if not seal:
+        return out
+    return np.array([_fill_small_holes(g) for g in out], dtype=object)
 
 
 def _fill_small_holes(geom, min_hole_m2: float | None = None):
@@ -162,38 +179,143 @@ def _fill_small_holes(geom, min_hole_m2: float | None = None):
 
 
 def attach_areas(net: Network, curves: Sequence[Curve]) -> None:
-    """Set ``own_lanes``, ``roadway`` and ``paved`` on each curve (in place)."""
+    """Set ``own_lanes``, ``roadway`` and ``paved`` on each curve (in place).
+
+    Unions are built in two levels: pieces first (an edge's road lanes, an edge's lanes,
+    the internal road lanes of one movement ``a -> b``), then each roadway from its
+    pieces and each junction's paved area from its polygon and pieces. Curves share the
+    results: one paved area per junction, one roadway per movement.
+    """
     if not curves:
         return
     own = own_lane_polygons(curves)
-    cat = _Catalogue(net)
-    road_keys: dict[frozenset[int], int] = {}
-    paved_keys: dict[frozenset[int], int] = {}
-    road_of: list[int] = []
-    paved_of: list[int] = []
-    junction_members: dict[str, frozenset[int]] = {}
-    edge_incident = _incident_edges(net)
-    internal = _internal_lanes_by_junction(net)
-    for curve in curves:
-        road = _roadway_lanes(net, curve.lanes)
-        road_set = frozenset(cat.ref("L:" + k) for k in road)
-        road_of.append(road_keys.setdefault(road_set, len(road_keys)))
-        members = set(road_set)
-        for j in _junctions_of(net, curve):
-            if j not in junction_members:
-                junction_members[j] = frozenset(
-                    cat.ref(k) for k in _junction_neighbourhood(net, j, edge_incident, internal)
-                )
-            members |= junction_members[j]
-        paved_set = frozenset(members)
-        paved_of.append(paved_keys.setdefault(paved_set, len(paved_keys)))
-    geoms = cat.build()
-    road_union = _union_rows([sorted(k) for k in road_keys], geoms)
-    paved_union = _union_rows([sorted(k) for k in paved_keys], geoms)
-    roadway = road_union[np.array(road_of)]
-    paved = paved_union[np.array(paved_of)]
-    for curve, o, r, p in zip(curves, own, roadway, paved, strict=True):
-        curve.own_lanes, curve.roadway, curve.paved = o, r, p
+    b = _AreaBuilder(net)
+    road_of = [b.group("road", b.roadway_members(c)) for c in curves]
+    paved_of = [b.group("paved", b.paved_members(c)) for c in curves]
+    roadway, paved = b.build()
+    for curve, o, r_i, p_i in zip(curves, own, road_of, paved_of, strict=True):
+        curve.own_lanes, curve.roadway, curve.paved = o, roadway[r_i], paved[p_i]
+
+
+class _AreaBuilder:
+    """Registers the lanes, pieces and groups the curves need, then unions them in batches."""
+
+    def __init__(self, net: Network):
+        self.net = net
+        self.cat = _Catalogue(net)
+        self.pieces: dict[str, list[int]] = {}
+        self.groups: dict[str, dict[frozenset[str], int]] = {"road": {}, "paved": {}}
+        self.incident = _incident_edges(net)
+        self.internal = _internal_lanes_by_junction(net)
+        self.movement_at: dict[tuple[str, str], str] = {}
+        self.junction_members: dict[str, frozenset[str]] = {}
+
+    def _piece(self, key: str, lanes: Sequence[str]) -> str | None:
+        if key not in self.pieces:
+            if not lanes:
+                return None
+            self.pieces[key] = [self.cat.ref("L:" + k) for k in lanes]
+        return key
+
+    def edge_piece(self, edge: str, road_only: bool) -> str | None:
+        lanes = self.net.edges[edge].lanes
+        if road_only:
+            lanes = [k for k in lanes if self.net.lanes[k].allows_road_vehicles()]
+        return self._piece(("ER:" if road_only else "EA:") + edge, lanes)
+
+    def movement_piece(self, a: str, b: str) -> str | None:
+        key = f"M:{a}>{b}"
+        if key in self.pieces:
+            return key
+        lanes: list[str] = []
+        for lane_id in self.net.edges[a].lanes:
+            for c in self.net.outgoing(lane_id):
+                if c.to_edge == b and c.via:
+                    lanes.extend(
+                        k for k in via_lanes(self.net, c) or [] if self._road(k) and k not in lanes
+                    )
+        return self._piece(key, lanes)
+
+    def _road(self, lane_id: str) -> bool:
+        return self.net.lanes[lane_id].allows_road_vehicles()
+
+    def roadway_members(self, curve: Curve) -> frozenset[str]:
+        plain = _plain_edges_of(self.net, curve.lanes)
+        keys = [self.edge_piece(e, True) for e in plain]
+        keys += [self.movement_piece(a, b) for a, b in zip(plain, plain[1:], strict=False)]
+        covered = {k for key in keys if key for k in self.pieces[key]}
+        extra = [
+            "L:" + k for k in curve.lanes if self.cat.ref("L:" + k) not in covered
+        ]  # a lane of the curve in no piece (e.g. a ring passage without a connection)
+        return frozenset([k for k in keys if k] + extra)
+
+    def paved_members(self, curve: Curve) -> frozenset[str]:
+        junctions = _junctions_of(self.net, curve)
+        members: set[str] = set()
+        near = set()
+        for j in junctions:
+            members |= self.junction(j)
+            near.update(self.incident.get(j, []))
+        plain = _plain_edges_of(self.net, curve.lanes)
+        for e in plain:
+            if e not in near:
+                members.add(self.edge_piece(e, False) or "")
+        for a, b in zip(plain, plain[1:], strict=False):
+            if self.net.edges[a].to_junction not in junctions:
+                members.add(self.movement_piece(a, b) or "")
+        for k in curve.lanes:  # lanes of the curve nothing above covers
+            if not k.startswith(":") and self.net.lanes[k].edge not in near | set(plain):
+                members.add("L:" + k)
+        members.discard("")
+        return frozenset(members)
+
+    def junction(self, j: str) -> frozenset[str]:
+        hit = self.junction_members.get(j)
+        if hit is not None:
+            return hit
+        keys = {"J:" + j}
+        in_movements: set[str] = set()
+        for e in self.incident.get(j, []):
+            keys.add(self.edge_piece(e, False) or "")
+            if self.net.edges[e].to_junction == j:
+                outs = {c.to_edge for k in self.net.edges[e].lanes for c in self.net.outgoing(k)}
+                for b in sorted(outs):
+                    key = self.movement_piece(e, b) if b in self.net.edges else None
+                    if key:
+                        keys.add(key)
+                        in_movements.update(self.cat.keys[i][2:] for i in self.pieces[key])
+        keys.update("L:" + k for k in self.internal.get(j, []) if k not in in_movements)
+        keys.discard("")
+        self.cat.ref("J:" + j)
+        hit = self.junction_members[j] = frozenset(keys)
+        return hit
+
+    def group(self, kind: str, members: frozenset[str]) -> int:
+        table = self.groups[kind]
+        return table.setdefault(members, len(table))
+
+    def build(self) -> tuple[np.ndarray, np.ndarray]:
+        for table in self.groups.values():
+            for members in table:
+                for k in members:
+                    if k.startswith(("L:", "J:")):
+                        self.cat.ref(k)
+        geoms = self.cat.build()
+        piece_keys = list(self.pieces)
+        piece_geoms = _union_rows([self.pieces[k] for k in piece_keys], geoms, seal=False)
+        index = {k: len(geoms) + i for i, k in enumerate(piece_keys)}
+        index.update({k: i for i, k in enumerate(self.cat.keys)})
+        all_geoms = np.concatenate((geoms, piece_geoms))
+        out = []
+        for kind in ("road", "paved"):
+            rows = [sorted(index[k] for k in m) for m in self.groups[kind]]
+            out.append(_union_rows(rows, all_geoms))
+        return out[0], out[1]
+
+
+def _plain_edges_of(net: Network, lanes: Sequence[str]) -> list[str]:
+    plain = [net.lanes[k].edge for k in lanes if net.lanes[k].function != "internal"]
+    return list(dict.fromkeys(plain))
 
 
 def _incident_edges(net: Network) -> dict[str, list[str]]:
@@ -204,25 +326,6 @@ def _incident_edges(net: Network) -> dict[str, list[str]]:
         out.setdefault(e.from_junction, []).append(e.id)
         out.setdefault(e.to_junction, []).append(e.id)
     return out
-
-
-def _roadway_lanes(net: Network, lanes: Sequence[str]) -> list[str]:
-    plain = [net.lanes[k].edge for k in lanes if net.lanes[k].function != "internal"]
-    plain = list(dict.fromkeys(plain))
-    out: list[str] = list(lanes)
-    for e in plain:
-        out.extend(k for k in net.edges[e].lanes if net.lanes[k].allows_road_vehicles())
-    for a, b in zip(plain, plain[1:], strict=False):
-        for lane_id in net.edges[a].lanes:
-            for c in net.outgoing(lane_id):
-                if c.to_edge == b and c.via:
-                    via = c.via
-                    while via and via in net.lanes and via not in out:
-                        if net.lanes[via].allows_road_vehicles():
-                            out.append(via)
-                        nxt = net.outgoing(via)
-                        via = nxt[0].via if nxt else None
-    return list(dict.fromkeys(out))
 
 
 def _junctions_of(net: Network, curve: Curve) -> list[str]:
@@ -246,13 +349,3 @@ def _internal_lanes_by_junction(net: Network) -> dict[str, list[str]]:
         if lane.function == "internal":
             out.setdefault(junction_of_internal(k), []).append(k)
     return out
-
-
-def _junction_neighbourhood(
-    net: Network, junction: str, incident: dict[str, list[str]], internal: dict[str, list[str]]
-) -> list[str]:
-    keys = ["J:" + junction]
-    for e in incident.get(junction, []):
-        keys.extend("L:" + k for k in net.edges[e].lanes)
-    keys.extend("L:" + k for k in internal.get(junction, []))
-    return keys
