@@ -170,24 +170,22 @@ class Network:
     def outgoing(self, lane_id: str) -> list[Connection]:
         """Connections leaving lane ``lane_id`` (also from internal lanes)."""
         if self._out is None:
-            self._index()
-        assert self._out is not None
+            self._out, self._in = self._index()
         return self._out.get(lane_id, [])
 
     def incoming(self, lane_id: str) -> list[Connection]:
         """Connections entering lane ``lane_id`` (also into internal lanes)."""
         if self._in is None:
-            self._index()
-        assert self._in is not None
+            self._out, self._in = self._index()
         return self._in.get(lane_id, [])
 
-    def _index(self) -> None:
+    def _index(self) -> tuple[dict[str, list[Connection]], dict[str, list[Connection]]]:
         out: dict[str, list[Connection]] = defaultdict(list)
         inc: dict[str, list[Connection]] = defaultdict(list)
         for c in self.connections:
             out[c.from_lane].append(c)
             inc[c.to_lane].append(c)
-        self._out, self._in = dict(out), dict(inc)
+        return dict(out), dict(inc)
 
 
 def read_network(path: str | os.PathLike[str]) -> Network:
@@ -221,6 +219,7 @@ def read_network(path: str | os.PathLike[str]) -> Network:
         huge_tree=True,
         remove_comments=True,
         remove_pis=True,
+        collect_ids=False,
     )
     try:
         with open_binary(p) as fh:
