@@ -9,10 +9,15 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+import networks.areas
+import networks.curves
 import networks.geometry
 import networks.paths
+import networks.plot
+import networks.profiles
 import networks.reader
 import networks.safe_xml
+import networks.samples.sources
 from networks.reader import DEFAULT_LANE_WIDTH_M, parse_shapes, read_network, resolve_allowed
 from vehicles.errors import InputError
 
@@ -28,7 +33,18 @@ EDGES = """
 
 
 def test_doctests_of_network_modules():
-    for mod in (networks.geometry, networks.paths, networks.reader, networks.safe_xml):
+    modules = (
+        networks.areas,
+        networks.curves,
+        networks.geometry,
+        networks.paths,
+        networks.plot,
+        networks.profiles,
+        networks.reader,
+        networks.safe_xml,
+        networks.samples.sources,
+    )
+    for mod in modules:
         result = doctest.testmod(mod)
         assert result.failed == 0, mod.__name__
 

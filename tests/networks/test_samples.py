@@ -98,3 +98,15 @@ def test_parking_ramp_helix():
     assert ramp.max_grade_pct == pytest.approx(grade, abs=0.5)
     assert ramp.turn_angle_deg == pytest.approx(360 * sources.HELIX_TURNS, abs=2.0)
     assert ramp.lane_width_m == sources.HELIX_LANE_M
+
+
+def test_plan_figure_is_drawn(tmp_path):
+    from networks.plot import save_plan
+
+    png = save_plan(
+        samples.SAMPLES_DIR / "parking_ramp" / "parking_ramp.net.xml",
+        tmp_path / "plan.png",
+        [("helix", None), ("zoom", (-15.0, 15.0, -15.0, 15.0))],
+    )
+    data = png.read_bytes()
+    assert data[:8] == b"\x89PNG\r\n\x1a\n" and len(data) > 10_000
