@@ -61,6 +61,7 @@ import difflib
 import logging
 import math
 import os
+import time
 from collections import deque
 from collections.abc import Iterator, Sequence
 from dataclasses import dataclass, field
@@ -141,6 +142,36 @@ class DriveOptions:
                 raise InputError(f"drive options: {name} must be > 0, got {value!r}")
         if not (math.isfinite(self.offset_m) and self.offset_m >= 0):
             raise InputError(f"clearance offset must be a number >= 0 m, got {self.offset_m!r}")
+
+
+@dataclass
+class DriveStats:
+    """Where :func:`drive`'s time went (wall clock, seconds) and how much SUMO did.
+
+    Attributes
+    ----------
+    model_s
+        The kinematic model (:func:`analysis.tracking.simulate_batch`).
+    sumo_s
+        The SUMO session (start, vTypes, placements, steps, read-back, close), without the
+        model computed inside it.
+    evaluate_s
+        Envelopes and verdicts.
+    vehicle_steps
+        SUMO vehicles placed and read back, summed over the steps.
+    sumo_steps
+        Simulation steps.
+    model_cpu_s, sumo_cpu_s
+        The same by the process's CPU time (steadier on a shared machine).
+    """
+
+    model_s: float = 0.0
+    model_cpu_s: float = 0.0
+    sumo_s: float = 0.0
+    sumo_cpu_s: float = 0.0
+    evaluate_s: float = 0.0
+    vehicle_steps: int = 0
+    sumo_steps: int = 0
 
 
 @dataclass
@@ -348,17 +379,18 @@ class _Unit:
 
     ``start`` is the first sample whose point lies on the curve's own lanes: the vehicle is
     added to SUMO and placed from then on, never before (libsumo 1.28 crashes writing FCD
-    output for a vehicle whose first placement is off every lane).
+    output for a vehicle whose first placement is off every lane). The samples are plain
+    Python lists: the loop passes them to libsumo one by one.
     """
 
     vid: str
     vtype: str
-    x: np.ndarray
-    y: np.ndarray
-    angle: np.ndarray
+    x: list[float]
+    y: list[float]
+    angle: list[float]
     start: int
-    edge: list[str] | None = None
-    lane: np.ndarray | None = None
+    edge: list[str]
+    lane: list[int]
     added: bool = False
 
 
@@ -412,6 +444,7 @@ def drive(
     pairs: Sequence[tuple[Vehicle, Curve]],
     settings: TrackingSettings | None = None,
     options: DriveOptions | None = None,
+    stats: DriveStats | None = None,
 ) -> list[DrivenRun]:
     """Drive every (vehicle, curve) pair: model, SUMO replay and check, envelope, verdict.
 
@@ -426,6 +459,8 @@ def drive(
         Tracking settings of the model (time step = SUMO step length).
     options
         Batch size, FCD output, clearance offset, with or without SUMO.
+    stats
+        Filled with the time spent in each part, when given.
 
     Returns
     -------
@@ -447,24 +482,35 @@ def drive(
         if c.curve_id not in paths:
             paths[c.curve_id] = prepare_path(c.centerline, settings.spacing_m, name=c.curve_id)
 
+    stats = stats if stats is not None else DriveStats()
+
     def batches() -> Iterator[list[int]]:
         for lo in range(0, len(pairs), options.batch_size):
+            t0, c0 = time.perf_counter(), time.process_time()
             idx = list(range(lo, min(lo + options.batch_size, len(pairs))))
             runs = simulate_batch([pairs[i][0] for i in idx],
                                   [paths[pairs[i][1].curve_id] for i in idx], settings)
             for i, r in zip(idx, runs, strict=True):
                 out[i].run = r
+            stats.model_s += time.perf_counter() - t0
+            stats.model_cpu_s += time.process_time() - c0
             yield idx
 
+    t0, c0 = time.perf_counter(), time.process_time()
     if options.use_sumo:
         ends = {k: net.lanes[k].shape[-1] for _, c in pairs for k in c.lanes if k in net.lanes}
-        _SumoSession(net.path, out, paths, settings, options, ends).run(batches())
+        before, cpu_before = stats.model_s, stats.model_cpu_s
+        _SumoSession(net.path, out, paths, settings, options, ends, stats).run(batches())
+        stats.sumo_s += time.perf_counter() - t0 - (stats.model_s - before)
+        stats.sumo_cpu_s += time.process_time() - c0 - (stats.model_cpu_s - cpu_before)
     else:
         for _ in batches():
             pass
+    t0 = time.perf_counter()
     for d in out:
         assert d.run is not None
         d.result = evaluate(d.run, areas[d.curve.curve_id], options.offset_m)
+    stats.evaluate_s += time.perf_counter() - t0
     return out
 
 
@@ -473,7 +519,8 @@ class _SumoSession:
 
     def __init__(self, net_path, out: list[DrivenRun], paths: dict[str, Path],
                  settings: TrackingSettings, options: DriveOptions,
-                 lane_ends: dict[str, np.ndarray]) -> None:
+                 lane_ends: dict[str, np.ndarray], stats: DriveStats) -> None:
+        self.stats = stats
         self.net_path = str(net_path)
         self.out = out
         self.paths = paths
@@ -495,6 +542,8 @@ class _SumoSession:
             cmd += ["--fcd-output", os.fspath(self.options.fcd_output),
                     "--fcd-output.attributes", "x,y,z,angle,type,speed"]
         self.traci.start(cmd)
+        self.move_to_xy = self.traci.vehicle.moveToXY
+        self.get_position = self.traci.vehicle.getPosition
         self.vtypes.clear()
         self.routes.clear()
 
@@ -548,6 +597,7 @@ class _SumoSession:
                 if not self._place(plan):
                     del active[i]
             try:
+                self.stats.sumo_steps += 1
                 t.simulationStep()
             except (t.TraCIException, t.FatalTraCIError) as exc:
                 self._step_failed(active, exc)
@@ -613,7 +663,7 @@ class _SumoSession:
             self.routes[curve.curve_id] = rid
         return self.routes[curve.curve_id]
 
-    def _hints(self, curve: Curve, stations: np.ndarray) -> tuple[list[str], np.ndarray]:
+    def _hints(self, curve: Curve, stations: np.ndarray) -> tuple[list[str], list[int]]:
         lanes = curve.lanes
         if curve.curve_id not in self.bounds:
             ends = [self.lane_ends.get(k) for k in lanes]
@@ -622,9 +672,10 @@ class _SumoSession:
             else:
                 self.bounds[curve.curve_id] = lane_boundaries_m(
                     curve, self.paths[curve.curve_id], ends)
-        which = np.searchsorted(self.bounds[curve.curve_id], stations, side="right")
-        edges = [edge_of_lane(lanes[w]) for w in which]
-        return edges, np.array([lane_index(lanes[w]) for w in which], dtype=int)
+        which = np.searchsorted(self.bounds[curve.curve_id], stations, side="right").tolist()
+        edge_names = [edge_of_lane(k) for k in lanes]
+        indices = [lane_index(k) for k in lanes]
+        return [edge_names[w] for w in which], [indices[w] for w in which]
 
     def _add(self, i: int) -> _Plan | None:
         d = self.out[i]
@@ -642,31 +693,28 @@ class _SumoSession:
         x, y = front_bumper(run)
         angle = np.asarray(heading_rad_to_navigational(run.trajectory.theta_rad))
         edges, lanes = self._hints(d.curve, run.trajectory.s_m + d.vehicle.front_overhang_m)
-        units = [_Unit(vid, tid, x, y, angle, first_on(own, x, y), edges, lanes)]
-        if ttid is not None:
+        units = [_Unit(vid, tid, x.tolist(), y.tolist(), angle.tolist(), first_on(own, x, y),
+                       edges, lanes)]
+        if ttid is not None:  # no hint for the trailer: SUMO matches it to the nearest lane
             tx, ty, th_t = trailer_front(run)
-            units.append(_Unit(vid + ".trailer", ttid, tx, ty,
-                               np.asarray(heading_rad_to_navigational(th_t)),
-                               first_on(own, tx, ty)))
+            units.append(_Unit(vid + ".trailer", ttid, tx.tolist(), ty.tolist(),
+                               np.asarray(heading_rad_to_navigational(th_t)).tolist(),
+                               first_on(own, tx, ty), [""] * len(tx), [-1] * len(tx)))
         return _Plan(i, rid, units, len(x))
 
     def _place(self, plan: _Plan) -> bool:
-        veh = self.traci.vehicle
         k = plan.k
         thr = self.options.match_threshold_m
+        move = self.move_to_xy
         try:
             for u in plan.units:
                 if k < u.start:
                     continue
                 if not u.added:
-                    veh.add(u.vid, plan.route, typeID=u.vtype, departPos="0")
+                    self.traci.vehicle.add(u.vid, plan.route, typeID=u.vtype, departPos="0")
                     u.added = True
-                if u.edge is not None:
-                    edge, lane = u.edge[k], int(u.lane[k])
-                else:
-                    edge, lane = "", -1
-                veh.moveToXY(u.vid, edge, lane, float(u.x[k]), float(u.y[k]),
-                             float(u.angle[k]), keepRoute=2, matchThreshold=thr)
+                # keepRoute=2: exactly here, also off the route and inside junctions
+                move(u.vid, u.edge[k], u.lane[k], u.x[k], u.y[k], u.angle[k], 2, thr)
         except self.traci.TraCIException as exc:
             t_s = float(self.out[plan.index].run.trajectory.t_s[k])
             self._fail(plan.index, plan.vid,
@@ -676,13 +724,16 @@ class _SumoSession:
         return True
 
     def _check(self, plan: _Plan) -> bool:
-        veh = self.traci.vehicle
+        get = self.get_position
         k = plan.k
         try:
             for u in plan.units:
                 if u.added:
-                    px, py = veh.getPosition(u.vid)
-                    plan.max_dev = max(plan.max_dev, math.hypot(px - u.x[k], py - u.y[k]))
+                    self.stats.vehicle_steps += 1
+                    px, py = get(u.vid)
+                    dev = math.hypot(px - u.x[k], py - u.y[k])
+                    if dev > plan.max_dev:
+                        plan.max_dev = dev
         except self.traci.TraCIException as exc:
             self._fail(plan.index, plan.vid, f"SUMO lost vehicle {plan.vid} at sample {k}: "
                        f"{exc}", k, plan.max_dev, plan)

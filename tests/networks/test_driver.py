@@ -267,3 +267,10 @@ def test_lane_boundaries_on_a_helix_use_elevation():
     # the helix lane ends at the top, not where the plan view first passes over its end
     helix = ramp.lanes.index("helix_0")
     assert bounds[helix] > ramp.core_end_m - 1.0
+
+
+def test_docstring_examples():
+    import doctest
+
+    failures, tried = doctest.testmod(driver, optionflags=doctest.NORMALIZE_WHITESPACE)
+    assert tried >= 8 and failures == 0

@@ -136,3 +136,10 @@ def test_trajectory_file_names_are_safe_and_unique():
     assert len(set(names)) == 3
     assert names[2] == "car__turn_J.csv"
     assert names[0].startswith("a_b__turn_J-") and names[0].endswith(".csv")
+
+
+def test_docstring_examples():
+    import doctest
+
+    failures, tried = doctest.testmod(cmd_simulate)
+    assert tried >= 2 and failures == 0
