@@ -272,5 +272,7 @@ def test_lane_boundaries_on_a_helix_use_elevation():
 def test_docstring_examples():
     import doctest
 
-    failures, tried = doctest.testmod(driver, optionflags=doctest.NORMALIZE_WHITESPACE)
+    from networks import placement
+
+    failures, tried = doctest.testmod(placement, optionflags=doctest.NORMALIZE_WHITESPACE)
     assert tried >= 7 and failures == 0
