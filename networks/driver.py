@@ -76,6 +76,7 @@ from dataclasses import dataclass, field
 from pathlib import Path as FilePath
 
 import numpy as np
+import shapely
 
 from analysis.clearance import Areas, RunResult, evaluate
 from analysis.polyline import Path, prepare_path
@@ -365,7 +366,12 @@ def drive(
     t0 = time.perf_counter()
     for d in out:
         assert d.run is not None
-        d.result = evaluate(d.run, areas[d.curve.curve_id], options.offset_m)
+        try:
+            d.result = evaluate(d.run, areas[d.curve.curve_id], options.offset_m)
+        except (InputError, ValueError, shapely.errors.ShapelyError) as exc:
+            # one run's bad geometry must not lose the others' results
+            d.error = (d.error + "; " if d.error else "") + f"envelope or verdict failed: {exc}"
+            log.warning("%s x %s: %s", d.vehicle.name, d.curve.curve_id, d.error)
     stats.evaluate_s += time.perf_counter() - t0
     return out
 

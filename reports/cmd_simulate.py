@@ -162,17 +162,16 @@ def _num(value: float | None, digits: int = 3) -> str:
 def result_row(r: DrivenRun) -> dict[str, str]:
     """One ``results.csv`` row (metres to the millimetre)."""
     res = r.result
-    assert res is not None
     return {
         "vehicle": r.vehicle.name,
         "curve_id": r.curve.curve_id,
         "kind": r.curve.kind,
         "verdict": r.verdict,
-        "margin_m": _num(res.clearance.margin_m),
-        "paved_margin_m": _num(res.clearance.paved_margin_m),
-        "max_offtracking_m": _num(res.swept.max_offtracking_m),
-        "max_tracking_error_m": _num(res.run.max_error_m),
-        "swept_width_m": _num(res.swept.max_swept_width_m),
+        "margin_m": _num(res.clearance.margin_m if res else None),
+        "paved_margin_m": _num(res.clearance.paved_margin_m if res else None),
+        "max_offtracking_m": _num(res.swept.max_offtracking_m if res else None),
+        "max_tracking_error_m": _num(r.run.max_error_m if r.run else None),
+        "swept_width_m": _num(res.swept.max_swept_width_m if res else None),
         "sumo_max_deviation_m": _num(r.sumo_max_deviation_m, 4),
         "sumo_steps": str(r.sumo_steps),
         "reason": r.reason,
@@ -241,6 +240,8 @@ def envelopes_geojson(runs: Sequence[DrivenRun], rows: Sequence[dict[str, str]],
     """The runs' swept envelopes as a GeoJSON FeatureCollection in local metres."""
     features = []
     for r, row in zip(runs, rows, strict=True):
+        if r.result is None:  # its envelope could not be computed (see results.csv)
+            continue
         geom = shapely.geometry.mapping(r.result.swept.envelope)
         features.append({
             "type": "Feature",
@@ -266,6 +267,8 @@ def write_outputs(out_dir: Path, runs: Sequence[DrivenRun], rows: Sequence[dict[
                   net_path: str | Path) -> None:
     """results.csv, envelopes.geojson and one trajectory CSV per run, each atomically."""
     for r, name in zip(runs, trajectory_files(runs), strict=True):
+        if r.run is None:
+            continue
         write_text_atomic(out_dir / "trajectories" / name, trajectory_csv(r))
     write_text_atomic(out_dir / "envelopes.geojson", envelopes_geojson(runs, rows, net_path))
     write_text_atomic(out_dir / "results.csv", csv_text(rows, RESULT_COLUMNS))
@@ -282,7 +285,8 @@ def print_summary(rows: Sequence[dict[str, str]], limit: int) -> None:
     if not rows:
         return
     shown = sorted(rows, key=lambda r: (order.get(r["verdict"], 9),
-                                        float(r["margin_m"] or 0), r["vehicle"], r["curve_id"]))
+                                        float(r["margin_m"] or "inf"), r["vehicle"],
+                                        r["curve_id"]))
     shown = shown[: max(limit, 0)]
     cols = ("vehicle", "curve_id", "verdict", "margin_m", "max_offtracking_m",
             "swept_width_m", "sumo_max_deviation_m")

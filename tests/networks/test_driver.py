@@ -276,3 +276,21 @@ def test_docstring_examples():
 
     failures, tried = doctest.testmod(placement, optionflags=doctest.NORMALIZE_WHITESPACE)
     assert tried >= 7 and failures == 0
+
+
+def test_a_failing_verdict_keeps_the_other_runs(nets, table, monkeypatch):
+    net, pairs = _pairs(nets, table, 3)
+    real = driver.evaluate
+    calls = {"n": 0}
+
+    def flaky(run, *args, **kwargs):
+        calls["n"] += 1
+        if calls["n"] == 2:
+            raise InputError("clearance areas: own_lanes is not a valid polygon")
+        return real(run, *args, **kwargs)
+
+    monkeypatch.setattr(driver, "evaluate", flaky)
+    runs = drive(net, pairs, options=DriveOptions(use_sumo=False))
+    assert runs[1].verdict == "error" and runs[1].result is None
+    assert "envelope or verdict failed: clearance areas" in runs[1].reason
+    assert [runs[0].verdict, runs[2].verdict] == ["clear", "clear"]
