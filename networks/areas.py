@@ -150,7 +150,11 @@ def _union_rows(groups: list[list[int]], geoms: np.ndarray, seal: bool = True) -
         out[rows] = shapely.union_all(table, axis=1)
     if not seal:
         return out
-    return np.array([_fill_small_holes(g) for g in out], dtype=object)
+    parts = shapely.get_parts(out, return_index=True)
+    holed = np.unique(parts[1][shapely.get_num_interior_rings(parts[0]) > 0])
+    for i in holed:
+        out[i] = _fill_small_holes(out[i])
+    return out
 
 
 def _fill_small_holes(geom, min_hole_m2: float | None = None):
