@@ -52,7 +52,7 @@ log = logging.getLogger(__name__)
 KINDS = ("turn", "roundabout", "ramp", "bend")
 
 
-@dataclass(eq=False)
+@dataclass(eq=False, slots=True)
 class Curve:
     """A path through one feature of a network, with its geometry and areas.
 
