@@ -21,15 +21,19 @@ libsumo = pytest.importorskip("libsumo")
 
 @pytest.fixture(scope="module")
 def table():
-    return load_tables([bundled_table("aashto_green_book")])
+    names = ["P", "SU-30", "CITY-BUS", "WB-40", "WB-62", "2008 Chrysler Town & Country"]
+    return load_tables([bundled_table("aashto_green_book"), bundled_table("paper_table1")],
+                       names)
+
+
+KINDS = {"intersection": ["turn"], "roundabout": ["roundabout"], "parking_ramp": ["ramp"]}
 
 
 @pytest.fixture(scope="module")
 def nets():
     out = {}
-    for name in ("intersection", "roundabout"):
+    for name, kinds in KINDS.items():
         net = read_network(samples.SAMPLES_DIR / name / f"{name}.net.xml")
-        kinds = ["turn"] if name == "intersection" else ["roundabout"]
         out[name] = (net, extract_curves(net, kinds))
     return out
 
@@ -41,29 +45,30 @@ def _curve(curves, start: str, end: str):
     return hits[0]
 
 
-# What the samples were designed to show (networks/samples/sources.py, test_samples.py):
-# X's NW corner (9.5 m) suits a car but not a bus; the T's SW corner (4 m) is tighter than
-# any design vehicle's lock; roundabout R's truck apron takes the trucks' offtracking; the
-# compact roundabout C (ICD 26 m) is too small for a semitrailer.
+# What the samples were designed to show (networks/README.md, "Verdicts"; margins to the
+# own lanes in metres as tabulated there by `python -m networks.samples.verdicts`).
+VAN = "2008 Chrysler Town & Country"
 DESIGNED = [
-    ("intersection", "P", "turn:X:XN_in_0", "XW_out_0", "clear"),
-    ("intersection", "CITY-BUS", "turn:X:XN_in_0", "XW_out_0", "fails"),
-    ("intersection", "SU-30", "turn:T:TW_in_0", "TS_out_0", "cannot-turn"),
-    ("intersection", "WB-62", "turn:X:XN_in_0", "XS_out_0", "clear"),
-    ("roundabout", "P", "roundabout:R0:R0_in_", "R2_out_", "clear"),
-    ("roundabout", "SU-30", "roundabout:R0:R0_in_", "R2_out_", "encroaches"),
-    ("roundabout", "WB-40", "roundabout:R0:R0_in_", "R3_out_", "encroaches"),
-    ("roundabout", "WB-40", "roundabout:C0:C0_in_", "C2_out_", "cannot-turn"),
+    ("intersection", "P", "turn:X:XN_in_0", "XW_out_0", "clear", 0.02),
+    ("intersection", "CITY-BUS", "turn:X:XN_in_0", "XW_out_0", "fails", -2.03),
+    ("intersection", "P", "turn:T:TW_in_0", "TS_out_0", "fails", -0.24),
+    ("intersection", "SU-30", "turn:T:TW_in_0", "TS_out_0", "cannot-turn", -1.73),
+    ("roundabout", "P", "roundabout:R0:R0_in_", "R2_out_", "clear", 0.26),
+    ("roundabout", "SU-30", "roundabout:R0:R0_in_", "R2_out_", "encroaches", -0.77),
+    ("roundabout", "WB-62", "roundabout:R0:R0_in_", "R1_out_", "fails", -3.49),
+    ("roundabout", "WB-62", "roundabout:C0:C0_in_", "C3_out_", "cannot-turn", -8.19),
+    ("parking_ramp", VAN, "ramp:", "helix", "clear", 0.09),
+    ("parking_ramp", "P", "ramp:", "helix", "fails", -0.13),
 ]
 
 
 @pytest.fixture(scope="module")
 def driven(nets, table):
     results = {}
-    for name in ("intersection", "roundabout"):
+    for name in KINDS:
         net, curves = nets[name]
         rows = [d for d in DESIGNED if d[0] == name]
-        pairs = [(table.vehicle(v), _curve(curves, a, b)) for _, v, a, b, _ in rows]
+        pairs = [(table.vehicle(v), _curve(curves, a, b)) for _, v, a, b, _, _ in rows]
         for row, run in zip(rows, drive(net, pairs, options=DriveOptions(batch_size=3)),
                             strict=True):
             results[row] = run
@@ -77,6 +82,7 @@ def test_designed_verdicts(driven, row):
     assert run.verdict == row[4], run.reason
     margin = run.result.margin_m
     assert (margin >= 0) == (row[4] == "clear")
+    assert margin == pytest.approx(row[5], abs=0.015)
     if row[4] == "cannot-turn":  # a verdict with its reason, not an error
         assert "front axle left the centre line" in run.reason or "articulation" in run.reason
 
@@ -133,7 +139,7 @@ def test_fcd_output_replays_the_model(nets, table, tmp_path):
 def test_without_sumo_same_verdicts(nets, table, driven):
     net, curves = nets["intersection"]
     rows = [d for d in DESIGNED if d[0] == "intersection"]
-    pairs = [(table.vehicle(v), _curve(curves, a, b)) for _, v, a, b, _ in rows]
+    pairs = [(table.vehicle(v), _curve(curves, a, b)) for _, v, a, b, _, _ in rows]
     plain = drive(net, pairs, options=DriveOptions(use_sumo=False))
     for row, run in zip(rows, plain, strict=True):
         assert run.verdict == driven[row].verdict
