@@ -177,6 +177,7 @@ def signed_margin_m(
     lines = shapely.difference(shapely.boundary(envelope), area)
     coords = [shapely.get_coordinates(shapely.segmentize(lines, densify_m))]
     pieces = shapely.get_parts(shapely.difference(envelope, area))
+    pieces = pieces[~shapely.is_empty(pieces) & (shapely.area(pieces) > 0)]
     lone = pieces[~shapely.intersects(pieces, lines)] if not lines.is_empty else pieces
     if len(lone):
         circles = shapely.maximum_inscribed_circle(lone, densify_m)

@@ -45,6 +45,8 @@ def hole_free_pieces(part: Polygon) -> list[Polygon]:
     Each hole is cut by a vertical line through a point inside it, which opens the hole to
     the outside of both pieces; this repeats until no piece has a hole.
     """
+    # Holes under 1 cm² are slivers between the steps of a sweep, not islands: fill them.
+    part = Polygon(part.exterior, [h for h in part.interiors if Polygon(h).area >= 1e-4])
     todo, done = [part], []
     while todo:
         poly = todo.pop()

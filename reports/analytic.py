@@ -1,0 +1,159 @@
+"""The analytic method: each vehicle in steady state at every station of a curve.
+
+Where the driven method (libsumo and the kinematic model) follows the transient, the
+analytic method places the vehicle at each station of the centre line in the steady turn
+of the local radius (DESIGN.md §4): with the steered-axle centre on the centre line at
+radius ``R``, the rear axle runs at ``rho = sqrt(R^2 - l^2)``, the body reaches
+``R_out = sqrt((rho + B/2)^2 + (l + a)^2)`` outside and ``rho - B/2`` inside (a trailer:
+``sqrt(rho^2 + e^2 - l_t^2) - B_t/2``). The envelope is the band between those offsets of
+the centre line; steady-state offtracking is the largest a turn can produce, so the
+analytic verdict errs on the safe side for short turns. A curve tighter than the vehicle's
+minimum centre-line turning radius is ``cannot-turn``.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+import shapely
+from shapely.geometry.base import BaseGeometry
+
+from analysis.clearance import Areas, Clearance, classify, end_boxes
+from analysis.polyline import prepare_path
+from networks.curves import Curve
+from networks.geometry import arc_length, clean_polyline, curvature_profile
+from vehicles.vehicle import Vehicle
+
+#: Stations every this many metres along the centre line.
+STEP_M = 1.0
+
+
+@dataclass(frozen=True)
+class AnalyticRun:
+    """One vehicle on one curve, analytically."""
+
+    envelope: BaseGeometry
+    clearance: Clearance
+    swept_width_m: float
+    max_offtracking_m: float
+    vehicle_min_radius_m: float
+
+
+def minimum_ctr_m(vehicle: Vehicle) -> float:
+    """The vehicle's minimum centre-line turning radius (steered-axle centre).
+
+    Examples
+    --------
+    >>> v = Vehicle("P", 3.35, 2.13, 2.13, 0.91, 1.52, math.atan(3.35 / 5.45), 0.7, 0.3)
+    >>> round(minimum_ctr_m(v), 3)
+    6.397
+    """
+    return math.hypot(vehicle.min_radius_m, vehicle.wheelbase_m)
+
+
+def extents_m(vehicle: Vehicle, radius_m: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Steady-state body extents inside and outside a centre line of radius ``radius_m``.
+
+    Returns ``(inside, outside)``: how far the body reaches to the inside and the outside
+    of the centre line when the steered-axle centre runs on it. Straight ahead both are
+    half the body width.
+
+    Examples
+    --------
+    >>> v = Vehicle("car", 2.7, 1.5, 1.8, 0.9, 1.0, 0.6, 0.65, 0.5)
+    >>> i, o = extents_m(v, np.array([np.inf, 10.0]))
+    >>> [round(float(x), 4) for x in i], [round(float(x), 4) for x in o]
+    ([0.9, 1.2714], [0.9, 1.1271])
+    """
+    R = np.asarray(radius_m, dtype=float)
+    l, B = vehicle.wheelbase_m, vehicle.width_m
+    a = vehicle.front_overhang_m if vehicle.steered_axle == "front" else vehicle.rear_overhang_m
+    straight = ~np.isfinite(R)
+    Rf = np.where(straight, 1e9, np.maximum(R, l * 1.000001))
+    rho = np.sqrt(Rf**2 - l**2)
+    outer = np.hypot(rho + B / 2, l + a) - Rf
+    inner = Rf - (rho - B / 2)
+    t = vehicle.trailer
+    if t is not None:
+        rt2 = rho**2 + t.hitch_offset_m**2 - t.wheelbase_m**2
+        r_t = np.sqrt(np.maximum(rt2, 0.0))
+        inner = np.maximum(inner, Rf - (r_t - t.width_m / 2))
+        outer = np.maximum(outer, np.hypot(r_t + t.width_m / 2,
+                                           t.wheelbase_m + t.front_overhang_m) - Rf)
+    inner = np.where(straight, max(B, t.width_m if t else 0.0) / 2, inner)
+    outer = np.where(straight, max(B, t.width_m if t else 0.0) / 2, outer)
+    return inner, outer
+
+
+def fill_small_holes(geom: BaseGeometry, min_area_m2: float) -> BaseGeometry:
+    """``geom`` with the holes smaller than ``min_area_m2`` filled (slivers between steps).
+
+    Examples
+    --------
+    >>> ring = shapely.box(0, 0, 10, 10).difference(shapely.box(4, 4, 4.5, 4.5))
+    >>> fill_small_holes(ring, 1.0).area
+    100.0
+    >>> fill_small_holes(ring, 0.1).area
+    99.75
+    """
+    polys = []
+    for p in shapely.get_parts(geom):
+        if p.geom_type != "Polygon":
+            continue
+        holes = [h for h in p.interiors if shapely.Polygon(h).area >= min_area_m2]
+        polys.append(shapely.Polygon(p.exterior, holes))
+    return shapely.union_all(polys) if polys else geom
+
+
+def run_analytic(vehicle: Vehicle, curve: Curve, offset_m: float = 0.0) -> AnalyticRun:
+    """The analytic envelope and verdict of ``vehicle`` on ``curve``."""
+    pts = clean_polyline(np.asarray(curve.centerline)[:, :2])
+    s_pts = arc_length(pts)
+    s, k = curvature_profile(pts, step_m=STEP_M)
+    core = (s >= curve.core_start_m) & (s <= curve.core_end_m)
+    k = np.where(core, k, 0.0)
+    with np.errstate(divide="ignore"):
+        radius = np.where(np.abs(k) > 1e-9, 1.0 / np.abs(k), np.inf)
+    # The fitted radius can dip below the curve's own minimum between fit windows.
+    radius = np.maximum(radius, curve.min_radius_m)
+    inner, outer = extents_m(vehicle, radius)
+    left = np.where(k >= 0, inner, outer)
+    right = np.where(k >= 0, outer, inner)
+    x = np.interp(s, s_pts, pts[:, 0])
+    y = np.interp(s, s_pts, pts[:, 1])
+    hx, hy = np.gradient(x), np.gradient(y)
+    norm = np.hypot(hx, hy)
+    nx, ny = -hy / norm, hx / norm
+    lx, ly = x + nx * left, y + ny * left
+    rx, ry = x - nx * right, y - ny * right
+    # The band as the union of one quadrilateral per step, not one ring: the plan of a
+    # helix overlaps itself, and a self-overlapping ring is not a valid polygon.
+    quads = np.stack([np.column_stack([lx[:-1], ly[:-1]]), np.column_stack([lx[1:], ly[1:]]),
+                      np.column_stack([rx[1:], ry[1:]]), np.column_stack([rx[:-1], ry[:-1]])],
+                     axis=1)
+    parts = shapely.make_valid(shapely.polygons(quads))
+    envelope = fill_small_holes(shapely.union_all(parts), 1.0)
+    min_ctr = minimum_ctr_m(vehicle)
+    reason = ""
+    if curve.min_radius_m < min_ctr:
+        reason = (f"curve radius {curve.min_radius_m:.2f} m is tighter than the minimum "
+                  f"centre-line turning radius {min_ctr:.2f} m")
+    measured = envelope.buffer(offset_m, quad_segs=8) if offset_m > 0 else envelope
+    # The band ends on the lanes' end lines: those ends are not curbs (DESIGN.md §6).
+    boxes = end_boxes(prepare_path(pts, name=curve.curve_id),
+                      float(np.max(inner + outer)) + offset_m + 1.0)
+    measured = shapely.difference(measured, boxes)
+    ignore = shapely.buffer(boxes, 1e-6, quad_segs=1)
+    areas = Areas(curve.own_lanes, curve.paved, curve.roadway)
+    clearance = classify(measured, areas, 0.0, reason, ignore=ignore)
+    width = float(np.max(inner + outer))
+    r_min = max(curve.min_radius_m, min_ctr)
+    rho = math.sqrt(max(r_min**2 - vehicle.wheelbase_m**2, 0.0))
+    innermost = rho
+    t = vehicle.trailer
+    if t is not None:
+        innermost = math.sqrt(max(rho**2 + t.hitch_offset_m**2 - t.wheelbase_m**2, 0.0))
+    offtrack = r_min - innermost if math.isfinite(curve.min_radius_m) else 0.0
+    return AnalyticRun(envelope, clearance, width, offtrack, min_ctr)

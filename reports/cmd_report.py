@@ -1,0 +1,126 @@
+"""``clearance report``: every vehicle × every curve of every network, with all outputs.
+
+With no arguments it runs the default study: the bundled sample networks and vehicle
+tables, output under ``reports/out/``. Everything is written into a fresh folder beside the
+output folder and swapped in at the end, so an interrupted run leaves the previous report
+intact.
+"""
+
+from __future__ import annotations
+
+import argparse
+import logging
+import os
+import shutil
+import tempfile
+import time
+from pathlib import Path
+
+from networks.samples.build import SAMPLES, SAMPLES_DIR
+from reports.atomic import write_text_atomic
+from reports.document import build_sections, html_document, markdown
+from reports.exports import EnvelopeRecord
+from reports.study import METHODS, Study, run_study
+from reports.tables import clearance_csv, summary_json
+from vehicles.errors import InputError
+from vehicles.table import bundled_table_paths, load_tables
+
+log = logging.getLogger(__name__)
+
+DEFAULT_OUTPUT = Path(__file__).resolve().parent / "out"
+
+
+def sample_networks() -> list[Path]:
+    """The bundled sample networks."""
+    return [SAMPLES_DIR / n / f"{n}.net.xml" for n in SAMPLES]
+
+
+def add_parser(sub: argparse._SubParsersAction) -> None:
+    p = sub.add_parser(
+        "report",
+        help="clearance report: every vehicle through every curve of every network",
+        description="Every vehicle x every curve of every network: clearance.csv, "
+                    "summary.json, report.html, report.md with figures, swept.geojson, "
+                    "swept.add.xml (sumo-gui) and swept.dxf (CAD). Without arguments: the "
+                    "bundled sample networks and vehicle tables, output under reports/out/.",
+    )
+    p.add_argument("-n", "--net", action="append", metavar="NET",
+                   help="SUMO network .net.xml[.gz] (repeatable); default: the samples")
+    p.add_argument("-t", "--table", action="append", metavar="TABLE.csv",
+                   help="vehicle table (repeatable); default: every bundled table")
+    p.add_argument("--vehicle", action="append", metavar="NAME",
+                   help="only this vehicle (repeatable)")
+    p.add_argument("-o", "--output", metavar="DIR", default=None,
+                   help=f"output folder (default: {DEFAULT_OUTPUT})")
+    p.add_argument("--method", choices=METHODS, default="simulate",
+                   help="simulate: drive through libsumo with the kinematic model (default); "
+                        "analytic: steady-state geometry")
+    p.add_argument("--clearance", type=float, default=0.0, metavar="M",
+                   help="clearance offset added around the swept path (m)")
+    p.add_argument("--units", choices=("m", "ft"), default="m",
+                   help="units of lengths shown in the report documents")
+    p.add_argument("--fcd", action="store_true",
+                   help="also write SUMO FCD output (replay with sumo-gui), simulate only")
+    p.set_defaults(run=run)
+
+
+def envelope_records(study: Study) -> list[EnvelopeRecord]:
+    return [EnvelopeRecord(r.network, r.vehicle, r.curve_id, r.kind, r.verdict, r.margin_m,
+                           r.envelope)
+            for r in study.records if r.envelope is not None and not r.envelope.is_empty]
+
+
+def write_report(study: Study, folder: Path, tables: list[Path], units: str = "m") -> None:
+    """Write every output of ``study`` into ``folder`` (which must be new or empty)."""
+    from reports.exports import write_dxf, write_geojson, write_sumo_additional
+
+    write_text_atomic(folder / "clearance.csv", clearance_csv(study))
+    write_text_atomic(folder / "summary.json", summary_json(study, tables))
+    sections = build_sections(study, folder, units)
+    write_text_atomic(folder / "report.md", markdown(study, sections, folder, units))
+    write_text_atomic(folder / "report.html", html_document(study, sections, units))
+    records = envelope_records(study)
+    locations = {n.name: n.network.location for n in study.networks}
+    write_geojson(folder / "swept.geojson", records, locations)
+    write_sumo_additional(folder / "swept.add.xml", records)
+    write_dxf(folder / "swept.dxf", records)
+
+
+def swap_in(new: Path, target: Path) -> None:
+    """Replace ``target`` by the folder ``new``; the old report survives until the end."""
+    old = None
+    if target.exists():
+        if not target.is_dir():
+            raise InputError(f"{target}: exists and is not a folder")
+        old = target.with_name(f".{target.name}.old-{os.getpid()}")
+        os.replace(target, old)
+    os.replace(new, target)
+    if old is not None:
+        shutil.rmtree(old, ignore_errors=True)
+
+
+def run(args: argparse.Namespace) -> int:
+    t0 = time.perf_counter()
+    nets = [Path(n) for n in args.net] if args.net else sample_networks()
+    tables = [Path(t) for t in args.table] if args.table else bundled_table_paths()
+    table = load_tables(tables, args.vehicle)
+    target = Path(args.output) if args.output else DEFAULT_OUTPUT
+    target.parent.mkdir(parents=True, exist_ok=True)
+    tmp = Path(tempfile.mkdtemp(prefix=f".{target.name}.new-", dir=target.parent))
+    try:
+        fcd = tmp / "fcd" if args.fcd else None
+        study = run_study(nets, table, args.method, args.clearance, fcd_dir=fcd)
+        write_report(study, tmp, tables, args.units)
+        swap_in(tmp, target)
+    except BaseException:
+        shutil.rmtree(tmp, ignore_errors=True)
+        raise
+    frame = study.frame()
+    counts = frame.verdict.value_counts()
+    print(f"{len(frame)} runs ({len(table)} vehicles, {len(nets)} networks, "
+          f"{sum(len(n.curves) for n in study.networks)} curves, method {args.method}) "
+          f"in {time.perf_counter() - t0:.1f} s")
+    print("  " + ", ".join(f"{v}: {int(counts.get(v, 0))}"
+                           for v in ("cannot-turn", "fails", "encroaches", "clear")))
+    print(f"report: {target / 'report.html'}")
+    return 0
