@@ -67,7 +67,8 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
 def envelope_records(study: Study) -> list[EnvelopeRecord]:
     return [EnvelopeRecord(r.network, r.vehicle, r.curve_id, r.kind, r.verdict, r.margin_m,
                            r.envelope)
-            for r in study.records if r.envelope is not None and not r.envelope.is_empty]
+            for r in study.records
+            if r.verdict != "error" and r.envelope is not None and not r.envelope.is_empty]
 
 
 def write_report(study: Study, folder: Path, tables: list[Path], units: str = "m") -> None:

@@ -28,7 +28,7 @@ MAX_CURVE_FIGURES = 12
 #: At most this many envelopes in one curve figure (the worst vehicles).
 MAX_ENVELOPES = 4
 
-SYMBOL = {"clear": "✓", "encroaches": "~", "fails": "✗", "cannot-turn": "⊘"}
+SYMBOL = {"clear": "✓", "encroaches": "~", "fails": "✗", "cannot-turn": "⊘", "error": "!"}
 
 
 @dataclass
@@ -59,7 +59,8 @@ def build_sections(study: Study, folder: Path, units: str = "m") -> list[Section
         plan = plot_network(nc, f, figs / f"{nc.name}_plan")[0]
         worst = worst_by_curve(f)
         counts = {v: int((f.verdict == v).sum()) for v in sorted(VERDICT_ORDER,
-                                                                   key=VERDICT_ORDER.get)}
+                                                                   key=VERDICT_ORDER.get)
+                  if v != "error" or (f.verdict == "error").any()}
         cells = f.assign(cell=f.verdict + "|" + (f.margin_m / scale).round(2).astype(str))
         matrix = cells.pivot(index="curve_id", columns="vehicle", values="cell")
         matrix = matrix[list(dict.fromkeys(f.vehicle))]

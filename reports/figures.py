@@ -20,7 +20,7 @@ from reports.plotting import new_figure, save
 from reports.study import VERDICT_ORDER, NetworkCurves, RunRecord
 
 COLOURS = {"clear": "#1e8449", "encroaches": "#e67e22", "fails": "#c0392b",
-           "cannot-turn": "#7d3c98"}
+           "cannot-turn": "#7d3c98", "error": "#000000"}
 
 
 def worst_by_curve(frame: pd.DataFrame) -> pd.DataFrame:
@@ -91,9 +91,10 @@ def plot_network(nc: NetworkCurves, frame: pd.DataFrame, stem: Path, marked: int
                             ha="center", va="center", zorder=8,
                             bbox=dict(boxstyle="circle,pad=0.2", fc="white",
                                       ec=COLOURS[verdict[c.curve_id]], lw=1.2))
+    present = set(worst.verdict)
     handles = [Line2D([], [], color=COLOURS[v], lw=2.2, label=v)
-               for v in sorted(COLOURS, key=VERDICT_ORDER.get)]
-    fig.legend(handles=handles, loc="lower center", ncol=4, fontsize=8, frameon=False,
+               for v in sorted(COLOURS, key=VERDICT_ORDER.get) if v != "error" or v in present]
+    fig.legend(handles=handles, loc="lower center", ncol=5, fontsize=8, frameon=False,
                title="worst verdict over the vehicles (numbers: the worst curves, in order)",
                title_fontsize=8, bbox_to_anchor=(0.5, -0.02))
     fig.tight_layout(rect=(0, 0.07, 1, 1))
@@ -132,6 +133,8 @@ def plot_curve(nc: NetworkCurves, curve: Curve, records: list[RunRecord], stem: 
                Line2D([], [], color="#2471a3", lw=1.0, ls="--", label="own lanes")]
     palette = ["#c0392b", "#7d3c98", "#e67e22", "#1e8449", "#2e86c1", "#7f8c8d"]
     for r, colour in zip(records, palette, strict=False):
+        if r.envelope is None:
+            continue
         _fill(ax, r.envelope, facecolor=colour, alpha=0.25, edgecolor=colour, lw=1.0, zorder=6)
         handles.append(Patch(facecolor=colour, alpha=0.5, edgecolor=colour,
                              label=f"{r.vehicle}: {r.verdict} ({r.margin_m:+.2f} m)"))

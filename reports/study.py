@@ -44,7 +44,8 @@ COLUMNS = ["network", "vehicle", "curve_id", "kind", "junction", "verdict", "mar
            "available_width_m", "max_offtracking_m", "max_tracking_error_m", "turn_angle_deg",
            "max_grade_pct", "method", "clearance_m", "reason"]
 
-VERDICT_ORDER = {"cannot-turn": 0, "fails": 1, "encroaches": 2, "clear": 3}
+#: Verdicts worst first; ``error`` is a run SUMO failed (its reason says why).
+VERDICT_ORDER = {"error": -1, "cannot-turn": 0, "fails": 1, "encroaches": 2, "clear": 3}
 
 
 @dataclass
@@ -70,7 +71,7 @@ class RunRecord:
     method: str
     clearance_m: float
     reason: str
-    envelope: BaseGeometry = field(repr=False)
+    envelope: BaseGeometry | None = field(repr=False)
 
     def row(self) -> dict[str, object]:
         return {c: getattr(self, c) for c in COLUMNS}
