@@ -137,8 +137,19 @@ class CurveOptions:
 Item = tuple[str, str, str, PathPlan]
 
 
+#: Paths measured per batch (bounds the memory of the temporary arrays).
+MEASURE_BATCH = 20000
+
+
 def measure(net: Network, items: Sequence[Item], opts: CurveOptions) -> list[Curve]:
-    """Measure paths in one batch: radius profile, turn angle, grades, width of the core."""
+    """Measure paths in batches: radius profile, turn angle, grades, width of the core."""
+    out: list[Curve] = []
+    for lo in range(0, len(items), MEASURE_BATCH):
+        out.extend(_measure(net, items[lo : lo + MEASURE_BATCH], opts))
+    return out
+
+
+def _measure(net: Network, items: Sequence[Item], opts: CurveOptions) -> list[Curve]:
     if not items:
         return []
     paths = realise(net, [it[3] for it in items])
