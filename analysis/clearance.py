@@ -164,7 +164,8 @@ def signed_margin_m(
     """
     if envelope.is_empty:
         raise InputError("signed_margin_m: the envelope is empty")
-    if shapely.covers(area, envelope):
+    if shapely.covers(area, envelope) or shapely.area(shapely.difference(envelope, area)) < 1e-6:
+        # (a sliver under a square millimetre is floating-point noise along a shared edge)
         boundary = area_boundary if area_boundary is not None else shapely.boundary(area)
         if ignore is not None:
             boundary = shapely.difference(boundary, ignore)
