@@ -147,7 +147,13 @@ def _union_rows(groups: list[list[int]], geoms: np.ndarray, seal: bool = True) -
         table = np.empty((len(rows), int(size)), dtype=object)
         for r, g in enumerate(rows):
             table[r, :] = geoms[groups[g]]
-        out[rows] = shapely.union_all(table, axis=1)
+        if size <= 3:  # pairwise unions beat the cascaded union on a few polygons
+            acc = table[:, 0]
+            for col in range(1, int(size)):
+                acc = shapely.union(acc, table[:, col])
+            out[rows] = acc
+        else:
+            out[rows] = shapely.union_all(table, axis=1)
     if not seal:
         return out
     parts = shapely.get_parts(out, return_index=True)
