@@ -138,9 +138,15 @@ def _union_rows(groups: list[list[int]], geoms: np.ndarray, seal: bool = True) -
     out = np.empty(len(groups), dtype=object)
     if not groups:
         return out
+    missing = shapely.is_missing(geoms)
+    if missing.any():  # a junction without a polygon
+        groups = [[i for i in g if not missing[i]] for g in groups]
     sizes = np.array([len(g) for g in groups])
     for size in np.unique(sizes):
         rows = np.flatnonzero(sizes == size)
+        if size == 0:
+            out[rows] = shapely.Polygon()
+            continue
         if size == 1:
             out[rows] = geoms[[groups[g][0] for g in rows]]
             continue
