@@ -337,7 +337,8 @@ def drive(
     paths: dict[str, Path] = {}
     for _, c in pairs:
         if c.curve_id not in paths:
-            paths[c.curve_id] = prepare_path(c.centerline, settings.spacing_m, name=c.curve_id)
+            paths[c.curve_id] = prepare_path(c.centerline, settings.spacing_m, name=c.curve_id,
+                                             smooth=True)
 
     stats = stats if stats is not None else DriveStats()
 
