@@ -10,9 +10,9 @@ import math
 from collections.abc import Callable
 from pathlib import Path
 
-from networks.driver import DriveOptions, DrivenRun, drive
-from reports.study import NetworkCurves, RunRecord
+from networks.driver import DrivenRun, DriveOptions, drive
 from reports.analytic import minimum_ctr_m
+from reports.study import NetworkCurves, RunRecord
 from vehicles.vehicle import Vehicle
 
 #: Runs handed to one SUMO simulation.

@@ -1,0 +1,148 @@
+"""`clearance report` as a user runs it: every output, determinism, atomicity."""
+
+import csv
+import json
+import os
+import re
+import subprocess
+from pathlib import Path
+
+import ezdxf
+import pytest
+import sumo
+
+from reports.cli import main
+from reports.cmd_report import sample_networks
+from reports.study import COLUMNS
+
+NET = next(p for p in sample_networks() if p.stem.startswith("intersection"))
+VEHICLES = ["P", "CITY-BUS"]
+
+
+def run_report(out: Path, *extra: str) -> int:
+    args = ["report", "-n", str(NET), "-o", str(out)]
+    for v in VEHICLES:
+        args += ["--vehicle", v]
+    return main(args + list(extra))
+
+
+@pytest.fixture(scope="module")
+def report(tmp_path_factory) -> Path:
+    out = tmp_path_factory.mktemp("rep") / "report"
+    assert run_report(out) == 0
+    return out
+
+
+@pytest.fixture(scope="module")
+def rows(report) -> list[dict[str, str]]:
+    with open(report / "clearance.csv", newline="") as fh:
+        return list(csv.DictReader(fh))
+
+
+def test_clearance_csv_has_every_run_and_the_columns(report, rows):
+    assert list(rows[0]) == COLUMNS
+    curves = {r["curve_id"] for r in rows}
+    assert len(rows) == len(curves) * len(VEHICLES) and len(curves) >= 10
+    assert {r["vehicle"] for r in rows} == set(VEHICLES)
+    assert {r["method"] for r in rows} == {"simulate"}
+    by = {(r["vehicle"], r["curve_id"]): r for r in rows}
+    # the designed corner of the four-leg junction: the car clears, the bus does not
+    assert by[("P", "turn:X:XN_in_0->XW_out_0")]["verdict"] == "clear"
+    assert by[("CITY-BUS", "turn:X:XN_in_0->XW_out_0")]["verdict"] == "fails"
+    for r in rows:
+        margin = float(r["margin_m"])
+        assert (margin >= 0) == (r["verdict"] == "clear") or r["verdict"] == "cannot-turn"
+
+
+def test_summary_json_counts_inputs_and_versions(report, rows):
+    s = json.loads((report / "summary.json").read_text())
+    assert s["runs"] == len(rows)
+    assert sum(s["verdicts"].values()) == len(rows)
+    by_vehicle = s["by_vehicle"]["P"]
+    assert sum(by_vehicle.values()) == len(rows) // 2
+    assert by_vehicle["clear"] == sum(1 for r in rows if r["vehicle"] == "P"
+                                      and r["verdict"] == "clear")
+    (net,) = s["inputs"]["networks"]
+    import hashlib
+    assert net["sha256"] == hashlib.sha256(NET.read_bytes()).hexdigest()
+    assert all(len(t["sha256"]) == 64 for t in s["inputs"]["vehicle_tables"])
+    assert s["versions"]["sumo"][0].isdigit()
+
+
+def test_html_is_self_contained(report):
+    html = (report / "report.html").read_text()
+    refs = re.findall(r'(?:src|href)\s*=\s*"([^"]*)"', html)
+    assert refs and all(r.startswith("data:") or r.startswith("#") for r in refs)
+    assert "http://" not in html and "https://" not in html
+    assert "<link" not in html and "<script" not in html
+    assert "turn:X:XN_in_0-&gt;XW_out_0" in html
+
+
+def test_markdown_links_its_figures(report):
+    md = (report / "report.md").read_text()
+    links = re.findall(r"!\[[^\]]*\]\(([^)]+)\)", md)
+    assert links
+    for link in links:
+        png = report / link
+        assert png.is_file() and png.with_suffix(".svg").is_file()
+
+
+def test_geojson_is_valid(report, rows):
+    gj = json.loads((report / "swept.geojson").read_text())
+    assert gj["type"] == "FeatureCollection"
+    assert "local metres" in gj["coordinate_system"]  # the sample has no projection
+    assert len(gj["features"]) == len(rows)
+    for f in gj["features"]:
+        assert f["type"] == "Feature"
+        assert f["geometry"]["type"] in ("Polygon", "MultiPolygon")
+        polys = (f["geometry"]["coordinates"] if f["geometry"]["type"] == "MultiPolygon"
+                 else [f["geometry"]["coordinates"]])
+        for poly in polys:
+            for ring in poly:
+                assert len(ring) >= 4 and ring[0] == ring[-1]
+        assert f["properties"]["verdict"] in ("clear", "encroaches", "fails", "cannot-turn")
+
+
+def test_sumo_loads_the_polygons(report):
+    env = dict(os.environ, SUMO_HOME=sumo.SUMO_HOME)
+    proc = subprocess.run([str(Path(sumo.SUMO_HOME) / "bin" / "sumo"), "-n", str(NET),
+                           "-a", str(report / "swept.add.xml"), "--end", "1",
+                           "--no-step-log", "true"], capture_output=True, text=True, env=env,
+                          timeout=120)
+    assert proc.returncode == 0, proc.stderr
+    assert "Error" not in proc.stderr
+
+
+def test_dxf_reopens_with_a_layer_per_vehicle(report):
+    doc = ezdxf.readfile(report / "swept.dxf")
+    layers = {layer.dxf.name for layer in doc.layers}
+    assert {"P", "CITY-BUS"} <= layers
+    assert len(doc.modelspace().query("LWPOLYLINE")) >= 2
+
+
+def test_identical_inputs_give_identical_files(report, tmp_path):
+    again = tmp_path / "again"
+    assert run_report(again) == 0
+    for name in ("clearance.csv", "summary.json", "swept.geojson"):
+        assert (again / name).read_bytes() == (report / name).read_bytes(), name
+
+
+def test_an_interrupted_run_leaves_the_previous_report(report, tmp_path, capsys):
+    out = tmp_path / "kept"
+    out.mkdir()
+    (out / "clearance.csv").write_text("previous\n")
+    bad = tmp_path / "broken.net.xml"
+    bad.write_text("<net><edge id='e'><lane id='e_0' shape='0,0 1,")  # truncated
+    assert main(["report", "-n", str(bad), "-o", str(out), "--vehicle", "P"]) == 2
+    assert "broken.net.xml" in capsys.readouterr().err
+    assert (out / "clearance.csv").read_text() == "previous\n"
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["broken.net.xml", "kept"]
+
+
+def test_analytic_method_and_feet(tmp_path):
+    out = tmp_path / "a"
+    assert run_report(out, "--method", "analytic", "--units", "ft") == 0
+    with open(out / "clearance.csv", newline="") as fh:
+        got = list(csv.DictReader(fh))
+    assert {r["method"] for r in got} == {"analytic"}
+    assert "Margins in feet" in (out / "report.md").read_text()
