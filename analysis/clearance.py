@@ -19,7 +19,8 @@ largest distance from the area of any point of the envelope outside it, evaluate
 outside part's boundary densified every ``densify_m``, so within ``densify_m / 2``, or at
 the pole of inaccessibility of a piece the envelope covers whole, such as an island).
 ``margin_m`` is the margin to the own lanes, the one that decides between ``clear`` and
-``encroaches``.
+``encroaches``. An overreach smaller than :data:`PRECISION_M` counts as zero: SUMO writes
+network coordinates to the centimetre, and its lanes kink where a smooth path does not.
 
 A run starts with the front axle on the centre line's first point, so the body then hangs
 back over whatever precedes the curve, and it ends with the front overhang past the last
@@ -56,6 +57,20 @@ VERDICTS = ("cannot-turn", "fails", "encroaches", "clear")
 
 DEFAULT_DENSIFY_M = 0.05
 """Spacing of the points where an overreach is measured (m)."""
+
+PRECISION_M = 0.01
+"""Overreach below this (m) is within the network's precision and counts as a zero margin."""
+
+
+def _within_precision(margin: float) -> float:
+    """``margin``, with an overreach under :data:`PRECISION_M` taken as zero.
+
+    Examples
+    --------
+    >>> _within_precision(-0.004), _within_precision(-0.02), _within_precision(0.3)
+    (0.0, -0.02, 0.3)
+    """
+    return 0.0 if -PRECISION_M < margin < 0 else margin
 
 
 def _check_area(name: str, geom: BaseGeometry | None, required: bool) -> None:
@@ -259,12 +274,14 @@ def classify(
     """
     _check_offset(offset_m)
     grown = shapely.buffer(envelope, offset_m, quad_segs=8) if offset_m > 0 else envelope
-    own = signed_margin_m(grown, areas.own_lanes, areas.boundary("own_lanes"), densify_m, ignore)
-    paved = signed_margin_m(grown, areas.paved, areas.boundary("paved"), densify_m, ignore)
+    own = _within_precision(
+        signed_margin_m(grown, areas.own_lanes, areas.boundary("own_lanes"), densify_m, ignore))
+    paved = _within_precision(
+        signed_margin_m(grown, areas.paved, areas.boundary("paved"), densify_m, ignore))
     road = None
     if areas.roadway is not None:
-        road = signed_margin_m(grown, areas.roadway, areas.boundary("roadway"), densify_m,
-                               ignore)
+        road = _within_precision(signed_margin_m(grown, areas.roadway,
+                                                 areas.boundary("roadway"), densify_m, ignore))
     grown_by = f" (grown by {offset_m:.2f} m)" if offset_m > 0 else ""
     if cannot_turn_reason:
         verdict, reason = "cannot-turn", cannot_turn_reason
