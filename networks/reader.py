@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import logging
 import os
+import warnings
 from collections import defaultdict
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -493,8 +494,11 @@ _BATCH = 20000
 
 
 def _bulk_floats(text: str) -> np.ndarray | None:
+    """Whitespace-separated numbers; None when any is not a finite number."""
     try:
-        arr = np.array(text.split(), dtype=np.float64)
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", DeprecationWarning)
+            arr = np.fromstring(text, dtype=np.float64, sep=" ")
     except ValueError:
         return None
     return arr if np.isfinite(arr).all() else None
