@@ -179,8 +179,12 @@ def signed_margin_m(
     """
     if envelope.is_empty:
         raise InputError("signed_margin_m: the envelope is empty")
-    if shapely.covers(area, envelope) or shapely.area(shapely.difference(envelope, area)) < 1e-6:
-        # (a sliver under a square millimetre is floating-point noise along a shared edge)
+    outside = shapely.difference(envelope, area)
+    if ignore is not None:
+        outside = shapely.difference(outside, ignore)
+    if shapely.area(outside) < 1e-6:
+        # covered, but for slivers under a square millimetre (floating-point noise along a
+        # shared edge) and what pokes out in the ignored region (past the trimmed ends)
         boundary = area_boundary if area_boundary is not None else shapely.boundary(area)
         if ignore is not None:
             boundary = shapely.difference(boundary, ignore)
@@ -397,7 +401,9 @@ def evaluate(
         reach = v.overall_length_m + max(v.width_m, v.trailer.width_m if v.trailer else 0.0)
         boxes = end_boxes(run.path, reach + offset_m + 1.0)
         measured = shapely.difference(measured, boxes)
-        ignore = shapely.buffer(boxes, 1e-6, quad_segs=1)
+        # a centimetre round the boxes: the lanes' end lines, which the trimmed envelope
+        # meets at the (smoothed) path's end normal, to within the network's precision
+        ignore = shapely.buffer(boxes, PRECISION_M, quad_segs=1)
     clearance = classify(measured, areas, 0.0, run.reason, ignore=ignore)
     return RunResult(run, swept, dataclasses.replace(clearance, offset_m=float(offset_m),
                                                      reason=_grown(clearance, offset_m)),
