@@ -6,18 +6,19 @@ The README's tables come from this script::
 
 Vehicles: the AASHTO design vehicles P, SU-30, CITY-BUS and WB-62 (bundled table
 ``aashto_green_book``) and a large van (the 2008 Chrysler Town & Country of
-``paper_table1``). Each drives lane-keeping along the curve's centre line at crawl speed
-(:mod:`analysis.tracking`); its swept envelope is measured against the curve's own lanes,
-roadway and paved area (:mod:`analysis.clearance`), with no clearance offset.
+``paper_table1``). Each drives lane-keeping along the curve's (smoothed) centre line at
+crawl speed with the kinematic model, exactly as ``clearance report`` drives it
+(:func:`networks.driver.drive`, here without SUMO, which only replays the model); its swept
+envelope is measured against the curve's own lanes, roadway and paved area, with no
+clearance offset.
 """
 
 from __future__ import annotations
 
 import sys
 
-from analysis.clearance import Areas, evaluate
-from analysis.tracking import simulate_batch
 from networks.curves import Curve, extract_curves
+from networks.driver import DriveOptions, drive
 from networks.reader import read_network
 from networks.samples.build import SAMPLES, SAMPLES_DIR
 from vehicles.table import bundled_table, load_tables
@@ -46,12 +47,13 @@ def table(name: str) -> str:
     ).vehicles()
     heads = ["curve", "R min [m]", "turn [°]", *(SHORT.get(v.name, v.name) for v in vehicles)]
     lines = ["| " + " | ".join(heads) + " |", "|" + "---|" * len(heads)]
+    net = read_network(SAMPLES_DIR / name / f"{name}.net.xml")
     for c in curves_of(name):
-        runs = simulate_batch(vehicles, [c.centerline[:, :2]] * len(vehicles))
+        # the kinematic model on the smoothed centre line, as `clearance report` drives it
+        runs = drive(net, [(v, c) for v in vehicles], options=DriveOptions(use_sumo=False))
         cells = [f"`{c.curve_id}`", f"{c.min_radius_m:.1f}", f"{round(c.turn_angle_deg):+d}"]
         for run in runs:
-            res = evaluate(run, Areas(c.own_lanes, c.paved, c.roadway))
-            cells.append(f"{res.verdict} ({res.margin_m:+.2f})")
+            cells.append(f"{run.verdict} ({run.result.margin_m:+.2f})")
         lines.append("| " + " | ".join(cells) + " |")
     return "\n".join(lines)
 
