@@ -58,6 +58,9 @@ VERDICTS = ("cannot-turn", "fails", "encroaches", "clear")
 DEFAULT_DENSIFY_M = 0.05
 """Spacing of the points where an overreach is measured (m)."""
 
+NEAR_M = 5.0
+"""Margins are first sought within this distance of the envelope's bounding box (m)."""
+
 PRECISION_M = 0.01
 """Overreach below this (m) is within the network's precision and counts as a zero margin."""
 
@@ -186,11 +189,22 @@ def signed_margin_m(
         # covered, but for slivers under a square millimetre (floating-point noise along a
         # shared edge) and what pokes out in the ignored region (past the trimmed ends)
         boundary = area_boundary if area_boundary is not None else shapely.boundary(area)
-        if ignore is not None:
-            boundary = shapely.difference(boundary, ignore)
-            if boundary.is_empty:
-                return math.inf
-        return float(shapely.distance(envelope, boundary))
+        # Only the boundary near the envelope can be nearest: look within a window first
+        # (a junction's boundary is long, an envelope local), the whole boundary if need be.
+        x0, y0, x1, y1 = envelope.bounds
+        for reach in (NEAR_M, math.inf):
+            near = boundary
+            if math.isfinite(reach):
+                near = shapely.clip_by_rect(boundary, x0 - reach, y0 - reach, x1 + reach,
+                                            y1 + reach)
+            if ignore is not None:
+                near = shapely.difference(near, ignore)
+            if near.is_empty:
+                continue
+            gap = float(shapely.distance(envelope, near))
+            if gap <= reach:
+                return gap
+        return math.inf
     # the deepest point lies on the envelope's boundary beyond the area, or, where a piece
     # beyond the area holds none of it (an island the envelope covers whole), at the
     # piece's pole of inaccessibility

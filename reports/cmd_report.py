@@ -27,7 +27,9 @@ from vehicles.table import bundled_table_paths, load_tables
 
 log = logging.getLogger(__name__)
 
-DEFAULT_OUTPUT = Path(__file__).resolve().parent / "out"
+#: The default study's output folder, relative to where the command runs (the repository's
+#: ``reports/`` folder when run from its root, as the README does).
+DEFAULT_OUTPUT = Path("reports") / "out"
 
 
 def sample_networks() -> list[Path]:

@@ -23,8 +23,9 @@ from reports.units import length_scale
 
 #: A curve is *tight* when its smallest margin is below this (m) though clear.
 TIGHT_M = 0.25
-#: At most this many curve figures per network (the worst first).
-MAX_CURVE_FIGURES = 12
+#: At most this many curve figures per network (the worst first): every failing or tight
+#: curve of the samples; a large network lists the rest in its matrix and clearance.csv.
+MAX_CURVE_FIGURES = 60
 #: At most this many envelopes in one curve figure (the worst vehicles).
 MAX_ENVELOPES = 4
 
