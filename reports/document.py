@@ -76,7 +76,7 @@ def build_sections(study: Study, folder: Path, units: str = "m") -> list[Section
         for cid in picked:
             recs = [r for r in study.records if r.network == nc.name and r.curve_id == cid]
             recs.sort(key=lambda r: (VERDICT_ORDER[r.verdict], r.margin_m))
-            shown = recs[:MAX_ENVELOPES]
+            shown = pick_envelopes(recs)
             stem = figs / f"{nc.name}_{figure_name(cid)}"
             png = plot_curve(nc, by_id[cid], shown, stem)[0]
             caption = ", ".join(f"{r.vehicle} {r.verdict} ({r.margin_m / scale:+.2f} {units})"
@@ -84,6 +84,28 @@ def build_sections(study: Study, folder: Path, units: str = "m") -> list[Section
             section.curve_figures.append((cid, png, caption))
         sections.append(section)
     return sections
+
+
+def pick_envelopes(records: list, limit: int = MAX_ENVELOPES) -> list:
+    """The runs a curve's figure shows: the worst of each verdict, then the next worst.
+
+    ``records`` are sorted worst first. Showing one run of each verdict (the one with the
+    smallest margin) tells a reader which vehicles fail and how close the ones that clear
+    come; the remaining places go to the next worst runs.
+
+    Examples
+    --------
+    >>> from types import SimpleNamespace as R
+    >>> rs = [R(verdict=v, margin_m=m) for v, m in
+    ...       [("cannot-turn", -3), ("cannot-turn", -2), ("fails", -0.2), ("clear", 0.1)]]
+    >>> [(r.verdict, r.margin_m) for r in pick_envelopes(rs, 3)]
+    [('cannot-turn', -3), ('fails', -0.2), ('clear', 0.1)]
+    """
+    firsts = [r for i, r in enumerate(records)
+              if i == 0 or r.verdict != records[i - 1].verdict]
+    rest = [r for r in records if all(r is not f for f in firsts)]
+    chosen = (firsts + rest)[:limit]
+    return sorted(chosen, key=lambda r: records.index(r))
 
 
 def _rel(path: Path, folder: Path) -> str:
