@@ -20,6 +20,7 @@ from pathlib import Path
 import pandas as pd
 
 from reports.atomic import write_text_atomic
+from reports.options import add_table_option
 from reports.study import METHODS, VERDICT_ORDER, run_study
 from vehicles.errors import InputError
 from vehicles.table import load_tables
@@ -40,8 +41,7 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
                    help="SUMO network (repeatable)")
     p.add_argument("--design-vehicle", action="append", metavar="NAME", required=True,
                    help="design vehicle (repeatable)")
-    p.add_argument("-t", "--table", action="append", metavar="TABLE.csv",
-                   help="vehicle table (repeatable); default: every bundled table")
+    add_table_option(p)
     p.add_argument("--allow", action="append", choices=ALLOWABLE, default=[],
                    help="a verdict that does not fail the gate (repeatable)")
     p.add_argument("--method", choices=METHODS, default="simulate")

@@ -9,6 +9,7 @@ import pandas as pd
 
 from reports import compare, templates
 from reports.atomic import write_text_atomic
+from reports.options import add_table_option, add_units_option, add_vehicle_option
 from vehicles.table import load_tables
 
 
@@ -21,11 +22,9 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
                     "paper's Figure 5), swept width against it (Figure 6), and 90° and 180° "
                     "turning templates of each model at one scale.",
     )
-    p.add_argument("-t", "--table", action="append", metavar="TABLE.csv",
-                   help="vehicle table (repeatable); default: every bundled table")
-    p.add_argument("--vehicle", action="append", metavar="NAME",
-                   help="only this vehicle (repeatable)")
-    p.add_argument("--units", choices=("m", "ft"), default="m", help="output length units")
+    add_table_option(p)
+    add_vehicle_option(p)
+    add_units_option(p)
     p.add_argument("-o", "--output", metavar="DIR", default="compare",
                    help="output folder (default: ./compare)")
     p.set_defaults(run=run)

@@ -20,6 +20,7 @@ from networks.samples.build import SAMPLES, SAMPLES_DIR
 from reports.atomic import write_text_atomic
 from reports.document import build_sections, html_document, markdown
 from reports.exports import EnvelopeRecord
+from reports.options import add_table_option, add_vehicle_option
 from reports.study import METHODS, Study, run_study
 from reports.tables import clearance_csv, summary_json
 from vehicles.errors import InputError
@@ -48,10 +49,8 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
     )
     p.add_argument("-n", "--net", action="append", metavar="NET",
                    help="SUMO network .net.xml[.gz] (repeatable); default: the samples")
-    p.add_argument("-t", "--table", action="append", metavar="TABLE.csv",
-                   help="vehicle table (repeatable); default: every bundled table")
-    p.add_argument("--vehicle", action="append", metavar="NAME",
-                   help="only this vehicle (repeatable)")
+    add_table_option(p)
+    add_vehicle_option(p)
     p.add_argument("-o", "--output", metavar="DIR", default=None,
                    help=f"output folder (default: {DEFAULT_OUTPUT})")
     p.add_argument("--method", choices=METHODS, default="simulate",

@@ -44,6 +44,7 @@ from networks.driver import (
 )
 from networks.reader import read_network
 from reports.atomic import write_text_atomic
+from reports.options import add_table_option, add_vehicle_option
 from vehicles.errors import InputError
 from vehicles.table import load_tables
 
@@ -85,10 +86,8 @@ def add_parser(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParse
         ),
     )
     p.add_argument("-n", "--net", required=True, type=Path, help=".net.xml or .net.xml.gz")
-    p.add_argument("-t", "--table", action="append", metavar="TABLE.csv",
-                   help="vehicle table (repeatable); default: every bundled table")
-    p.add_argument("--vehicle", action="append", required=True, metavar="NAME",
-                   help="vehicle to drive (repeatable)")
+    add_table_option(p)
+    add_vehicle_option(p, required=True, help="vehicle to drive (repeatable)")
     p.add_argument("--curve", action="append", metavar="ID",
                    help="only this curve (repeatable; ids as `clearance curves` lists them)")
     p.add_argument("--kind", action="append", choices=KINDS,

@@ -8,6 +8,7 @@ import pandas as pd
 
 from analysis.turning import turning_metrics
 from reports.atomic import write_text_atomic
+from reports.options import add_table_option, add_units_option, add_vehicle_option
 from reports.units import to_output_units
 from vehicles.table import load_tables
 
@@ -32,11 +33,9 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
                     "angle, turning radii and diameters, inside radius, steady-state swept "
                     "width and offtracking (DESIGN.md §4).",
     )
-    p.add_argument("-t", "--table", action="append", metavar="TABLE.csv",
-                   help="vehicle table (repeatable); default: every bundled table")
-    p.add_argument("--vehicle", action="append", metavar="NAME", help="only this vehicle "
-                   "(repeatable)")
-    p.add_argument("--units", choices=("m", "ft"), default="m", help="output length units")
+    add_table_option(p)
+    add_vehicle_option(p)
+    add_units_option(p)
     p.add_argument("-o", "--output", metavar="OUT.csv", help="write the table as CSV")
     p.set_defaults(run=run)
 

@@ -1,0 +1,22 @@
+"""Command-line options shared by the sub-commands."""
+
+from __future__ import annotations
+
+import argparse
+
+
+def add_table_option(p: argparse.ArgumentParser) -> None:
+    """``-t/--table TABLE.csv`` (repeatable; default: every bundled table)."""
+    p.add_argument("-t", "--table", action="append", metavar="TABLE.csv",
+                   help="vehicle table (repeatable); default: every bundled table")
+
+
+def add_vehicle_option(p: argparse.ArgumentParser, required: bool = False,
+                       help: str = "only this vehicle (repeatable)") -> None:
+    """``--vehicle NAME`` (repeatable)."""
+    p.add_argument("--vehicle", action="append", metavar="NAME", required=required, help=help)
+
+
+def add_units_option(p: argparse.ArgumentParser, help: str = "output length units") -> None:
+    """``--units m|ft`` (default metres)."""
+    p.add_argument("--units", choices=("m", "ft"), default="m", help=help)
