@@ -61,6 +61,9 @@ DEFAULT_DENSIFY_M = 0.05
 NEAR_M = 5.0
 """Margins are first sought within this distance of the envelope's bounding box (m)."""
 
+END_SLACK_M = 0.1
+"""Boundaries this close to the trimmed ends of a run do not count (m): they are cuts."""
+
 PRECISION_M = 0.01
 """Overreach below this (m) is within the network's precision and counts as a zero margin."""
 
@@ -415,9 +418,9 @@ def evaluate(
         reach = v.overall_length_m + max(v.width_m, v.trailer.width_m if v.trailer else 0.0)
         boxes = end_boxes(run.path, reach + offset_m + 1.0)
         measured = shapely.difference(measured, boxes)
-        # a centimetre round the boxes: the lanes' end lines, which the trimmed envelope
-        # meets at the (smoothed) path's end normal, to within the network's precision
-        ignore = shapely.buffer(boxes, PRECISION_M, quad_segs=1)
+        # the lanes' end lines, which the trimmed envelope meets at the (smoothed) path's
+        # end normal; a lane's flat end follows its last chord, a few degrees off that
+        ignore = shapely.buffer(boxes, END_SLACK_M, quad_segs=1)
     clearance = classify(measured, areas, 0.0, run.reason, ignore=ignore)
     return RunResult(run, swept, dataclasses.replace(clearance, offset_m=float(offset_m),
                                                      reason=_grown(clearance, offset_m)),

@@ -151,21 +151,21 @@ def smooth_polyline(points: ArrayLike, spacing_m: float, sigma_m: float = SMOOTH
     """A centre line through SUMO's vertices, smoothed over ``sigma_m`` of arc length.
 
     A centripetal Catmull-Rom spline through the vertices (:func:`catmull_rom`), resampled
-    every ``spacing_m``, then a Gaussian filter ``G`` along the line whose ends are held (the
-    line is extended by point reflection through each end, which keeps straight lines
-    straight), applied as ``2 G - G G``: kinks shorter than ``sigma_m`` are smoothed out,
-    while a circle keeps its radius (a plain Gaussian would shrink it by ``sigma^2 / 2R``).
+    every ``spacing_m``, then a Gaussian filter ``G`` along the line whose ends are held
+    (beyond each end the line is mirrored across its normal there, so a straight line goes
+    on straight and a circle round its centre), applied as ``2 G - G G``: kinks shorter than
+    ``sigma_m`` are smoothed out, while a circle keeps its radius (a plain Gaussian would
+    shrink it by ``sigma^2 / 2R``).
 
     Examples
     --------
-    Away from its ends (which are held, as if the line went on straight), a circle of
-    radius 10 m keeps its radius to within a centimetre:
+    A circle of radius 10 m keeps its radius to within a centimetre, ends included:
 
     >>> a = np.radians(np.linspace(0, 270, 271))
     >>> c = smooth_polyline(np.c_[10 * np.cos(a), 10 * np.sin(a)], 0.1)
     >>> r = np.hypot(c[:, 0], c[:, 1])
-    >>> bool(abs(r[len(r) // 2] - 10) < 0.01), c[0].round(9).tolist()
-    (True, [10.0, 0.0])
+    >>> bool(np.abs(r - 10).max() < 0.01), bool(np.hypot(*(c[0] - [10.0, 0.0])) < 0.001)
+    (True, True)
     >>> smooth_polyline([(0.0, 0.0), (10.0, 0.0)], 1.0)[:, 1].tolist() == [0.0] * 11
     True
     """
@@ -184,17 +184,31 @@ def smooth_polyline(points: ArrayLike, spacing_m: float, sigma_m: float = SMOOTH
     kernel = np.exp(-0.5 * (np.arange(-half, half + 1) * h / sigma_m) ** 2)
     kernel /= kernel.sum()
 
+    def mirrored(a: np.ndarray, end: int, step: int) -> np.ndarray:
+        # the points next to an end, mirrored across the line's normal there: a straight
+        # line goes on straight and a circle goes on round its own centre
+        p0 = a[end]
+        # second-order one-sided difference: the tangent of a curve, not of a chord
+        tan = 4 * a[end + step, :2] - a[end + 2 * step, :2] - 3 * p0[:2]
+        tan = tan / np.hypot(*tan)
+        near = a[end + step: end + step * (half + 1): step] if step > 0 else \
+            a[end - 1: end - half - 1: -1]
+        d = near[:, :2] - p0[:2]
+        refl = near.copy()
+        refl[:, :2] = p0[:2] + d - 2 * (d @ tan)[:, None] * tan
+        if a.shape[1] > 2:
+            refl[:, 2:] = 2 * p0[2:] - near[:, 2:]
+        return refl[::-1]
+
     def blur(a: np.ndarray) -> np.ndarray:
-        head = 2 * a[0] - a[half:0:-1]
-        tail = 2 * a[-1] - a[-2:-half - 2:-1]
+        head = mirrored(a, 0, 1)
+        tail = mirrored(a, n - 1, -1)[::-1]
         padded = np.vstack([head, a, tail])
         return np.column_stack([np.convolve(padded[:, j], kernel, mode="valid")
                                 for j in range(a.shape[1])])
 
     once = blur(res)
-    out = 2 * once - blur(once)  # twice once less twice: no shrink of curves to first order
-    out[0], out[-1] = res[0], res[-1]
-    return out
+    return 2 * once - blur(once)  # twice once less twice: no shrink of curves to first order
 
 
 def prepare_path(

@@ -70,7 +70,11 @@ from analysis.kinematics import (
     limit_steering,
 )
 from analysis.polyline import DEFAULT_SPACING_M, Path, prepare_path, project_window
-from analysis.trailer import advance_articulation, trailer_axle_point
+from analysis.trailer import (
+    advance_articulation,
+    steady_articulation_rad,
+    trailer_axle_point,
+)
 from vehicles.errors import InputError
 from vehicles.vehicle import Vehicle
 
@@ -380,6 +384,14 @@ def simulate(
     return simulate_batch([vehicle], [path], settings)[0]
 
 
+def _start_curvature(curvature: FloatArray, spacing: FloatArray, n_pts: NDArray[np.intp]
+                     ) -> FloatArray:
+    """Median curvature of each path over its first two metres (straight start: 0)."""
+    k = np.maximum(np.round(2.0 / spacing).astype(np.intp), 1)
+    return np.array([float(np.median(c[:min(int(k[i]) + 1, int(n_pts[i]))]))
+                     for i, c in enumerate(curvature)])
+
+
 def _pad(
     paths: list[Path],
 ) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray, NDArray[np.intp]]:
@@ -424,11 +436,17 @@ def _run(vehicles: list[Vehicle], paths: list[Path], st: TrackingSettings) -> li
         max_steps = 2 * math.ceil(float(length.max()) / (profile.min_speed_m_s * dt)) + 50
     abort_m = st.abort_factor * st.tolerance_m
 
-    th = heading[:, 0].copy()
+    # Start in the steady state of the path's first two metres: a run that begins inside a curve
+    # (a helix, a roundabout ring) starts with its wheels already turned, within the lock.
+    k0 = _start_curvature(curvature, spacing, n_pts)
+    phi = np.where(rear_steer, 0.0, np.clip(np.arctan(wb * k0), -lock, lock))
+    th = heading[:, 0] - phi  # the front axle moves along the path: theta + phi = heading
     x = xy[:, 0, 0] - ahead * np.cos(th)
     y = xy[:, 0, 1] - ahead * np.sin(th)
-    phi = np.zeros(n)
-    psi = np.zeros(n)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        rho0 = np.where(phi != 0.0, wb / np.tan(phi), np.inf)
+    psi = np.where(has_tr, np.nan_to_num(steady_articulation_rad(rho0, e, lt)), 0.0)
+    psi = np.clip(psi, -psi_max, psi_max)
     t = np.zeros(n)
     seg = np.zeros(n, dtype=np.intp)
     done = np.zeros(n, dtype=bool)

@@ -20,7 +20,7 @@ import numpy as np
 import shapely
 from shapely.geometry.base import BaseGeometry
 
-from analysis.clearance import PRECISION_M, Areas, Clearance, classify, end_boxes
+from analysis.clearance import END_SLACK_M, Areas, Clearance, classify, end_boxes
 from analysis.polyline import prepare_path
 from networks.curves import Curve
 from networks.geometry import arc_length, clean_polyline, curvature_profile
@@ -145,7 +145,7 @@ def run_analytic(vehicle: Vehicle, curve: Curve, offset_m: float = 0.0) -> Analy
     boxes = end_boxes(prepare_path(pts, name=curve.curve_id),
                       float(np.max(inner + outer)) + offset_m + 1.0)
     measured = shapely.difference(measured, boxes)
-    ignore = shapely.buffer(boxes, PRECISION_M, quad_segs=1)
+    ignore = shapely.buffer(boxes, END_SLACK_M, quad_segs=1)
     areas = Areas(curve.own_lanes, curve.paved, curve.roadway)
     clearance = classify(measured, areas, 0.0, reason, ignore=ignore)
     width = float(np.max(inner + outer))
