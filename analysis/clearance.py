@@ -220,7 +220,17 @@ def signed_margin_m(
         circles = shapely.maximum_inscribed_circle(lone, densify_m)
         coords.append(shapely.get_coordinates(shapely.get_point(circles, 0)))
     pts = shapely.points(np.concatenate(coords))
-    return -float(np.max(shapely.distance(pts, area))) if len(pts) else 0.0
+    if not len(pts):
+        return 0.0
+    # Distances to the part of the area near the points first: a distance no larger than
+    # the window's margin is exact (any nearer part of the area would lie in the window).
+    x0, y0, x1, y1 = shapely.total_bounds(pts)
+    near = shapely.clip_by_rect(area, x0 - NEAR_M, y0 - NEAR_M, x1 + NEAR_M, y1 + NEAR_M)
+    d = shapely.distance(pts, near) if not near.is_empty else np.full(len(pts), np.inf)
+    far = ~(d <= NEAR_M)
+    if far.any():
+        d[far] = shapely.distance(pts[far], area)
+    return -float(np.max(d))
 
 
 @dataclass(frozen=True)
