@@ -7,8 +7,9 @@ replayed in libsumo (:mod:`networks.driver`), and gets an envelope and a verdict
 ``DIR/results.csv``
     One row per run (:data:`RESULT_COLUMNS`), lengths in metres.
 ``DIR/envelopes.geojson``
-    One feature per run: the swept envelope, in the network's local plane coordinates
-    (metres, x east, y north, after netOffset; not WGS84, see its ``crs_note``).
+    One feature per run: the swept envelope, in longitude/latitude where the network has a
+    projection, in its local plane coordinates (metres) otherwise, as the file says
+    (:func:`reports.export_geojson.write_geojson`).
 ``DIR/trajectories/<vehicle>__<curve>.csv``
     The model's states of each run (:data:`TRAJECTORY_COLUMNS`); file names keep letters,
     digits, ``.``, ``-`` and ``_`` (anything else becomes ``_``).
@@ -22,7 +23,6 @@ import argparse
 import csv
 import hashlib
 import io
-import json
 import math
 import os
 import re
@@ -30,7 +30,6 @@ from collections.abc import Iterable, Sequence
 from pathlib import Path
 
 import numpy as np
-import shapely
 
 from analysis.tracking import TrackingSettings
 from networks.curves import KINDS, extract_curves
@@ -42,9 +41,12 @@ from networks.driver import (
     replay_config,
     select_curves,
 )
-from networks.reader import read_network
+from networks.reader import Network, read_network
 from reports.atomic import write_text_atomic
+from reports.export_geojson import write_geojson
+from reports.exports import EnvelopeRecord
 from reports.options import add_table_option, add_vehicle_option
+from reports.study import network_name
 from vehicles.errors import InputError
 from vehicles.table import load_tables
 
@@ -68,9 +70,6 @@ RESULT_COLUMNS = (
 TRAJECTORY_COLUMNS = ("t_s", "s_m", "x_m", "y_m", "theta_rad", "phi_rad", "xf_m", "yf_m",
                       "error_m", "speed_m_s")
 TRAILER_COLUMNS = ("xt_m", "yt_m", "theta_t_rad", "psi_rad")
-
-CRS_NOTE = ("Local plane coordinates of the SUMO network {net} in metres (x east, y north, "
-            "after the network's netOffset); not WGS84 longitude/latitude.")
 
 
 def add_parser(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParser:
@@ -138,7 +137,7 @@ def run(args: argparse.Namespace) -> int:
     rows = [result_row(r) for r in runs]
     print_summary(rows, args.limit)
     if args.output is not None:
-        write_outputs(args.output, runs, rows, net.path)
+        write_outputs(args.output, runs, rows, net)
         if fcd is not None:
             config = write_text_atomic(args.output / "replay.sumocfg",
                                        replay_config(Path(net.path).resolve(), settings.dt_s))
@@ -228,48 +227,23 @@ def trajectory_csv(r: DrivenRun) -> str:
     return "\n".join(lines) + "\n"
 
 
-def _rounded(coords, digits: int = 3):
-    if isinstance(coords, (list, tuple)) and coords and isinstance(coords[0], (int, float)):
-        return [round(float(c), digits) + 0.0 for c in coords]
-    return [_rounded(c, digits) for c in coords]
-
-
-def envelopes_geojson(runs: Sequence[DrivenRun], rows: Sequence[dict[str, str]],
-                      net_path: str | Path) -> str:
-    """The runs' swept envelopes as a GeoJSON FeatureCollection in local metres."""
-    features = []
-    for r, row in zip(runs, rows, strict=True):
-        if r.result is None:  # its envelope could not be computed (see results.csv)
-            continue
-        geom = shapely.geometry.mapping(r.result.swept.envelope)
-        features.append({
-            "type": "Feature",
-            "geometry": {"type": geom["type"], "coordinates": _rounded(geom["coordinates"])},
-            "properties": {
-                "vehicle": row["vehicle"],
-                "curve_id": row["curve_id"],
-                "kind": row["kind"],
-                "verdict": row["verdict"],
-                "margin_m": float(row["margin_m"]),
-                "clearance_offset_m": r.result.clearance.offset_m,
-            },
-        })
-    doc = {
-        "type": "FeatureCollection",
-        "crs_note": CRS_NOTE.format(net=Path(net_path).name),
-        "features": features,
-    }
-    return json.dumps(doc, sort_keys=True, separators=(",", ":")) + "\n"
+def envelope_records(runs: Sequence[DrivenRun], network: str) -> list[EnvelopeRecord]:
+    """The runs' swept envelopes as export records (runs SUMO failed are left out)."""
+    return [EnvelopeRecord(network, r.vehicle.name, r.curve.curve_id, r.curve.kind,
+                           r.result.verdict, r.result.margin_m, r.result.swept.envelope)
+            for r in runs if r.result is not None and not r.error]
 
 
 def write_outputs(out_dir: Path, runs: Sequence[DrivenRun], rows: Sequence[dict[str, str]],
-                  net_path: str | Path) -> None:
+                  net: Network) -> None:
     """results.csv, envelopes.geojson and one trajectory CSV per run, each atomically."""
     for r, name in zip(runs, trajectory_files(runs), strict=True):
         if r.run is None:
             continue
         write_text_atomic(out_dir / "trajectories" / name, trajectory_csv(r))
-    write_text_atomic(out_dir / "envelopes.geojson", envelopes_geojson(runs, rows, net_path))
+    name = network_name(Path(net.path))
+    write_geojson(out_dir / "envelopes.geojson", envelope_records(runs, name),
+                  {name: net.location})
     write_text_atomic(out_dir / "results.csv", csv_text(rows, RESULT_COLUMNS))
 
 
