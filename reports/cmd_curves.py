@@ -13,6 +13,7 @@ from pathlib import Path
 
 from networks.curves import KINDS, Curve, CurveOptions, extract_curves
 from networks.reader import read_network
+from reports.text_table import format_table
 from vehicles.errors import InputError
 
 #: CSV columns, in order.
@@ -97,7 +98,7 @@ def curve_row(curve: Curve) -> dict[str, str]:
 def _num(value: float, digits: int) -> str:
     if math.isinf(value):
         return "inf"
-    return f"{value:.{digits}f}"
+    return f"{round(value, digits) + 0.0:.{digits}f}"  # + 0.0: no "-0.0"
 
 
 def print_summary(net_path: Path, rows: Sequence[dict[str, str]], limit: int) -> None:
@@ -111,21 +112,10 @@ def print_summary(net_path: Path, rows: Sequence[dict[str, str]], limit: int) ->
     cols = ("curve_id", "kind", "min_radius", "turn_angle_deg", "length", "lane_width")
     cols += ("max_grade_pct",)
     heads = ("curve", "kind", "R min [m]", "turn [deg]", "length [m]", "width [m]", "grade [%]")
-    widths = [max(len(h), *(len(r[c]) for r in shown)) for h, c in zip(heads, cols, strict=True)]
-    print(_line(heads, widths))
-    for r in shown:
-        print(_line([r[c] for c in cols], widths))
+    print("\n".join(format_table(shown, cols, heads, 2)))
     if len(rows) > len(shown):
         print(f"... {len(rows) - len(shown)} more (the tightest are shown; see --output)")
 
-
-def _line(cells: Sequence[str], widths: Sequence[int]) -> str:
-    """Text columns left-aligned, numbers right-aligned."""
-    parts = [
-        v.ljust(w) if i < 2 else v.rjust(w)
-        for i, (v, w) in enumerate(zip(cells, widths, strict=True))
-    ]
-    return "  ".join(parts).rstrip()
 
 
 def write_csv_atomic(path: Path, rows: Sequence[dict[str, str]]) -> None:

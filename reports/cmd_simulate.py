@@ -47,6 +47,7 @@ from reports.export_geojson import write_geojson
 from reports.exports import EnvelopeRecord
 from reports.options import add_table_option, add_vehicle_option
 from reports.study import network_name
+from reports.text_table import format_table
 from vehicles.errors import InputError
 from vehicles.table import load_tables
 
@@ -265,15 +266,7 @@ def print_summary(rows: Sequence[dict[str, str]], limit: int) -> None:
             "swept_width_m", "sumo_max_deviation_m")
     heads = ("vehicle", "curve", "verdict", "margin [m]", "offtracking [m]", "swept [m]",
              "SUMO dev [m]")
-    widths = [max(len(h), *(len(r[c]) for r in shown)) for h, c in zip(heads, cols, strict=True)]
-    print(_line(heads, widths))
-    for r in shown:
-        print(_line([r[c] for c in cols], widths))
+    print("\n".join(format_table(shown, cols, heads, 3)))
     if len(rows) > len(shown):
         print(f"... {len(rows) - len(shown)} more (worst first; see results.csv)")
 
-
-def _line(cells: Sequence[str], widths: Sequence[int]) -> str:
-    parts = [v.ljust(w) if i < 3 else v.rjust(w)
-             for i, (v, w) in enumerate(zip(cells, widths, strict=True))]
-    return "  ".join(parts).rstrip()
