@@ -291,69 +291,57 @@ class _ParseState:
         self.junction_shapes: list[str] = []
 
     def start(self, tag: str, attrib: dict[str, str]) -> None:
-        """Called by lxml for each start tag (a SAX-style target: no tree is built)."""
-        if not self.seen_root:
-            if tag != "net":
-                raise InputError(f"{self.path}: not a SUMO network (root element <{tag}>)")
-            self.seen_root = True
-            return
+        """Called by lxml for each start tag (a SAX-style target: no tree is built).
+
+        One method, its branches in order of frequency (connections, lanes, edges):
+        it runs for every element of the file, so every call it saves counts.
+        """
         try:
-            self._start(tag, attrib)
+            get = attrib.get
+            if tag == "connection":
+                frm = get("from")
+                to = get("to")
+                if frm is None or to is None:
+                    raise InputError(f"{self.path}: a <connection> lacks 'from' or 'to'")
+                self.connections.append(Connection(
+                    frm, to, int(get("fromLane", "0")), int(get("toLane", "0")), get("via"),
+                    get("dir", "")))
+            elif tag == "lane":
+                edge = self.edge
+                if edge is None:
+                    return
+                lane_id = get("id")
+                if lane_id is None:
+                    raise InputError(f"{self.path}: a <lane> of edge {edge.id!r} has no id")
+                width = get("width")
+                self.lane_shapes.append(get("shape") or "")
+                self.lanes[lane_id] = Lane(
+                    lane_id, edge.id, int(get("index", "0")),
+                    float(width) if width is not None else DEFAULT_LANE_WIDTH_M,
+                    edge.function, resolve_allowed(get("allow"), get("disallow")), _EMPTY,
+                    float(get("length", "nan")), float(get("speed", "nan")))
+                edge.lanes.append(lane_id)
+            elif tag == "edge":
+                edge_id = get("id")
+                if edge_id is None:
+                    raise InputError(f"{self.path}: an <edge> has no id")
+                self.edge = self.edges[edge_id] = Edge(
+                    edge_id, get("from", ""), get("to", ""), get("function", "normal"),
+                    int(get("priority", "-1")), [])
+            elif tag == "request":
+                return
+            elif not self.seen_root:
+                if tag != "net":
+                    raise InputError(f"{self.path}: not a SUMO network (root element <{tag}>)")
+                self.seen_root = True
+            else:
+                self._start_rare(tag, get)
         except ValueError as exc:
             ident = attrib.get("id") or " ".join(f"{k}={v!r}" for k, v in attrib.items())[:80]
             raise InputError(f"{self.path}: bad value in <{tag} {ident}>: {exc}") from exc
 
-    def _start(self, tag: str, attrib: dict[str, str]) -> None:
-        get = attrib.get
-        if tag == "lane":
-            edge = self.edge
-            if edge is None:
-                return
-            lane_id = get("id")
-            if lane_id is None:
-                raise InputError(f"{self.path}: a <lane> of edge {edge.id!r} has no id")
-            width = get("width")
-            self.lane_shapes.append(get("shape") or "")
-            self.lanes[lane_id] = Lane(
-                lane_id,
-                edge.id,
-                int(get("index", "0")),
-                float(width) if width is not None else DEFAULT_LANE_WIDTH_M,
-                edge.function,
-                resolve_allowed(get("allow"), get("disallow")),
-                _EMPTY,
-                float(get("length", "nan")),
-                float(get("speed", "nan")),
-            )
-            edge.lanes.append(lane_id)
-        elif tag == "connection":
-            frm = get("from")
-            to = get("to")
-            if frm is None or to is None:
-                raise InputError(f"{self.path}: a <connection> lacks 'from' or 'to'")
-            self.connections.append(
-                Connection(
-                    frm,
-                    to,
-                    int(get("fromLane", "0")),
-                    int(get("toLane", "0")),
-                    get("via"),
-                    get("dir", ""),
-                )
-            )
-        elif tag == "edge":
-            edge_id = get("id")
-            if edge_id is None:
-                raise InputError(f"{self.path}: an <edge> has no id")
-            self.edge = self.edges[edge_id] = Edge(
-                edge_id,
-                get("from", ""),
-                get("to", ""),
-                get("function", "normal"),
-                int(get("priority", "-1")),
-                [],
-            )
-        elif tag == "junction":
+    def _start_rare(self, tag: str, get) -> None:  # noqa: ANN001 - attrib.get
+        if tag == "junction":
             jid = get("id")
             if jid is None:
                 raise InputError(f"{self.path}: a <junction> has no id")
