@@ -305,6 +305,10 @@ def classify(
     """
     _check_offset(offset_m)
     grown = shapely.buffer(envelope, offset_m, quad_segs=8) if offset_m > 0 else envelope
+    if grown.is_empty and cannot_turn_reason:
+        # the run stopped before its body swept anything between the curve's ends
+        return Clearance("cannot-turn", math.nan, math.nan, None, float(offset_m),
+                         cannot_turn_reason)
     own = _within_precision(
         signed_margin_m(grown, areas.own_lanes, areas.boundary("own_lanes"), densify_m, ignore))
     paved = _within_precision(

@@ -393,6 +393,8 @@ class _SumoSession:
         self.traci = _import_libsumo()
         self.vtypes: dict[str, str] = {}
         self.routes: dict[str, str] = {}
+        self.free_vtypes: set[str] = set()
+        self.free_routes: set[str] = set()
         self.bounds: dict[str, np.ndarray] = {}
         self.restarts = 0
 
@@ -409,6 +411,8 @@ class _SumoSession:
         self.get_position = self.traci.vehicle.getPosition
         self.vtypes.clear()
         self.routes.clear()
+        self.free_vtypes.clear()
+        self.free_routes.clear()
 
     def run(self, batches: Iterator[list[int]]) -> None:
         """Drive every run the batches yield (the model computed a batch ahead)."""
@@ -522,6 +526,9 @@ class _SumoSession:
     def _route(self, curve: Curve) -> str:
         if curve.curve_id not in self.routes:
             rid = f"r{len(self.routes)}"
+            # Only the first edge: the vehicle is placed with keepRoute=2, which follows it
+            # onto the next edges; a whole route would need SUMO to see every edge pair
+            # connected for this vehicle, which real networks do not always do.
             self.traci.route.add(rid, route_edges(curve))
             self.routes[curve.curve_id] = rid
         return self.routes[curve.curve_id]
@@ -565,6 +572,35 @@ class _SumoSession:
                                first_on(own, tx, ty), [""] * len(tx), [-1] * len(tx)))
         return _Plan(i, rid, units, len(x))
 
+    def _add_vehicle(self, vid: str, route: str, vtype: str) -> None:
+        """Add a vehicle; where SUMO refuses it, retry free of SUMO's rules.
+
+        The model places the vehicle, not SUMO's rules, but real networks refuse some
+        departures: lanes that do not admit the vehicle class (an OSM service road, a bus
+        lane), or edges SUMO does not see connected for it. Those vehicles get a copy of
+        their vType with vClass ``ignoring`` and a route of the first edge only (placement
+        with keepRoute=2 carries them on). Only then: libsumo 1.28 has crashed stepping
+        ``ignoring`` vehicles through some networks.
+        """
+        t = self.traci
+        try:
+            t.vehicle.add(vid, route, typeID=vtype, departPos="0")
+            return
+        except t.TraCIException as exc:
+            text = str(exc)
+            if "not allowed to depart" not in text and "no valid route" not in text:
+                raise
+        free = f"{vtype}.free"
+        if free not in self.free_vtypes:
+            t.vehicletype.copy(vtype, free)
+            t.vehicletype.setVehicleClass(free, "ignoring")
+            self.free_vtypes.add(free)
+        first = f"{route}.first"
+        if first not in self.free_routes:
+            t.route.add(first, list(t.route.getEdges(route))[:1])
+            self.free_routes.add(first)
+        t.vehicle.add(vid, first, typeID=free, departPos="0")
+
     def _place(self, plan: _Plan) -> bool:
         k = plan.k
         thr = self.options.match_threshold_m
@@ -574,7 +610,7 @@ class _SumoSession:
                 if k < u.start:
                     continue
                 if not u.added:
-                    self.traci.vehicle.add(u.vid, plan.route, typeID=u.vtype, departPos="0")
+                    self._add_vehicle(u.vid, plan.route, u.vtype)
                     u.added = True
                 # keepRoute=2: exactly here, also off the route and inside junctions
                 move(u.vid, u.edge[k], u.lane[k], u.x[k], u.y[k], u.angle[k], 2, thr)

@@ -54,9 +54,23 @@ def plot_plan(
 
     ``bounds`` (x min, x max, y min, y max) zooms in; the default shows everything.
     """
-    road = [k for k, lane in net.lanes.items() if lane.allows_road_vehicles()]
-    other = [k for k, lane in net.lanes.items() if not lane.allows_road_vehicles()]
-    for j in net.junctions.values():
+    lanes = net.lanes
+    junctions = list(net.junctions.values())
+    if bounds is not None:
+        # only what can show in the view: a curve's figure of a city network stays small
+        x0, x1, y0, y1 = bounds
+        pad = 10.0
+
+        def near(shape: np.ndarray) -> bool:
+            return bool(len(shape)) and not (
+                shape[:, 0].max() < x0 - pad or shape[:, 0].min() > x1 + pad
+                or shape[:, 1].max() < y0 - pad or shape[:, 1].min() > y1 + pad)
+
+        lanes = {k: lane for k, lane in lanes.items() if near(lane.shape)}
+        junctions = [j for j in junctions if near(j.shape)]
+    road = [k for k, lane in lanes.items() if lane.allows_road_vehicles()]
+    other = [k for k, lane in lanes.items() if not lane.allows_road_vehicles()]
+    for j in junctions:
         if len(j.shape) >= 3:
             ax.fill(j.shape[:, 0], j.shape[:, 1], color="#a8a8a8", lw=0, zorder=1)
     for ids, colour in ((other, "#d9c27a"), (road, "#c8c8c8")):

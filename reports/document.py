@@ -108,6 +108,12 @@ def pick_envelopes(records: list, limit: int = MAX_ENVELOPES) -> list:
     return sorted(chosen, key=lambda r: records.index(r))
 
 
+def _cell_margin(text: str) -> str:
+    """A matrix cell's margin: signed, two decimals; "n/a" when the run has none."""
+    value = float(text)
+    return f"{value:+.2f}" if math.isfinite(value) else "n/a"
+
+
 def _rel(path: Path, folder: Path) -> str:
     return path.relative_to(folder).as_posix()
 
@@ -147,8 +153,11 @@ def markdown(study: Study, sections: list[Section], folder: Path, units: str = "
             for cid, row in s.matrix.iterrows():
                 cells = []
                 for c in row:
-                    verdict, margin = str(c).split("|")
-                    cells.append(f"{SYMBOL[verdict]} {float(margin):+.2f}")
+                    if not isinstance(c, str):  # no run of this vehicle on this curve
+                        cells.append("–")
+                        continue
+                    verdict, margin = c.split("|")
+                    cells.append(f"{SYMBOL[verdict]} {_cell_margin(margin)}")
                 lines.append(f"| `{cid}` | " + " | ".join(cells) + " |")
         lines.append("")
         for cid, png, caption in s.curve_figures:
@@ -222,10 +231,13 @@ def html_document(study: Study, sections: list[Section], units: str = "m") -> st
             for cid, row in s.matrix.iterrows():
                 cells = []
                 for c in row:
-                    verdict, margin = str(c).split("|")
+                    if not isinstance(c, str):
+                        cells.append("<td>–</td>")
+                        continue
+                    verdict, margin = c.split("|")
                     colour = COLOURS[verdict]
                     cells.append(f'<td style="background:{colour}33" title="{e(verdict)}">'
-                                 f"{SYMBOL[verdict]} {float(margin):+.2f}</td>")
+                                 f"{SYMBOL[verdict]} {_cell_margin(margin)}</td>")
                 out.append(f'<tr><td class="id">{e(str(cid))}</td>{"".join(cells)}</tr>')
             out.append("</table></div>")
         for cid, png, caption in s.curve_figures:

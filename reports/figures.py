@@ -11,6 +11,7 @@ from pathlib import Path
 
 import numpy as np
 import pandas as pd
+import shapely
 from matplotlib.lines import Line2D
 from matplotlib.patches import Patch
 
@@ -38,22 +39,39 @@ def worst_by_curve(frame: pd.DataFrame) -> pd.DataFrame:
     return f.drop_duplicates("curve_id").drop(columns="_o").reset_index(drop=True)
 
 
-def sites(curves: list[Curve], gap_m: float = 80.0) -> list[list[Curve]]:
+def sites(curves: list[Curve], gap_m: float = 80.0, max_sites: int = 4) -> list[list[Curve]]:
     """Group curves whose feature centres lie within ``gap_m`` of each other (one plan each).
+
+    More than ``max_sites`` groups (a city network) make one group: a single overview.
 
     Examples
     --------
     >>> sites([])
     []
     """
-    centres = [_core_points(c).mean(axis=0) for c in curves]
-    groups: list[list[int]] = []
-    for i, p in enumerate(centres):
-        near = [g for g in groups if any(np.hypot(*(centres[j] - p)) < gap_m for j in g)]
-        merged = [i] + [j for g in near for j in g]
-        groups = [g for g in groups if g not in near] + [sorted(merged)]
-    groups.sort(key=lambda g: g[0])
-    return [[curves[i] for i in g] for g in groups]
+    if not curves:
+        return []
+    centres = shapely.points(np.array([_core_points(c).mean(axis=0) for c in curves]))
+    pairs = shapely.STRtree(centres).query(centres, predicate="dwithin", distance=gap_m)
+    parent = list(range(len(curves)))
+
+    def root(i: int) -> int:
+        while parent[i] != i:
+            parent[i] = parent[parent[i]]
+            i = parent[i]
+        return i
+
+    for i, j in pairs.T:
+        ri, rj = root(int(i)), root(int(j))
+        if ri != rj:
+            parent[max(ri, rj)] = min(ri, rj)
+    groups: dict[int, list[int]] = {}
+    for i in range(len(curves)):
+        groups.setdefault(root(i), []).append(i)
+    ordered = sorted(groups.values(), key=lambda g: g[0])
+    if len(ordered) > max_sites:
+        return [list(curves)]
+    return [[curves[i] for i in g] for g in ordered]
 
 
 def plot_network(nc: NetworkCurves, frame: pd.DataFrame, stem: Path, marked: int = 8
@@ -76,7 +94,8 @@ def plot_network(nc: NetworkCurves, frame: pd.DataFrame, stem: Path, marked: int
         pts = np.vstack([c.centerline[:, :2] for c in group]) if group else np.zeros((1, 2))
         half = max(np.ptp(pts[:, 0]), np.ptp(pts[:, 1])) / 2 + 8.0
         cx, cy = (pts.max(axis=0) + pts.min(axis=0)) / 2
-        title = f"{nc.name}: around junction {group[0].junction}" if group else nc.name
+        title = (f"{nc.name}: around junction {group[0].junction}" if len(groups) > 1
+                 else f"{nc.name}: every curve")
         plot_plan(nc.network, ax, title, (cx - half, cx + half, cy - half, cy + half))
         for c in sorted(group, key=lambda c: -VERDICT_ORDER[verdict[c.curve_id]]):
             v = verdict[c.curve_id]

@@ -146,3 +146,20 @@ def test_analytic_method_and_feet(tmp_path):
         got = list(csv.DictReader(fh))
     assert {r["method"] for r in got} == {"analytic"}
     assert "Margins in feet" in (out / "report.md").read_text()
+
+
+def test_a_real_osm_network_with_a_projection(tmp_path):
+    # a network nobody here drew: OSM import shipped with eclipse-sumo (UTM projection)
+    net = Path(sumo.SUMO_HOME) / "tools" / "game" / "fkk_in" / "ingolstadt.net.xml.gz"
+    if not net.is_file():
+        pytest.skip(f"{net} is not in this eclipse-sumo package")
+    out = tmp_path / "osm"
+    assert main(["report", "-n", str(net), "--vehicle", "P", "-o", str(out)]) == 0
+    with open(out / "clearance.csv", newline="") as fh:
+        got = list(csv.DictReader(fh))
+    assert len(got) > 50
+    assert {r["verdict"] for r in got} <= {"clear", "encroaches", "fails", "cannot-turn"}
+    gj = json.loads((out / "swept.geojson").read_text())
+    assert gj["coordinate_system"].startswith("WGS84")
+    lon, lat = gj["features"][0]["geometry"]["coordinates"][0][0][:2]
+    assert 11.2 < lon < 11.6 and 48.6 < lat < 48.9  # Ingolstadt
