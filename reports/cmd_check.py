@@ -20,7 +20,7 @@ from pathlib import Path
 import pandas as pd
 
 from reports.atomic import write_text_atomic
-from reports.options import add_table_option
+from reports.options import add_clearance_option, add_table_option
 from reports.study import METHODS, VERDICT_ORDER, run_study
 from vehicles.errors import InputError
 from vehicles.table import load_tables
@@ -45,8 +45,7 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--allow", action="append", choices=ALLOWABLE, default=[],
                    help="a verdict that does not fail the gate (repeatable)")
     p.add_argument("--method", choices=METHODS, default="simulate")
-    p.add_argument("--clearance", type=float, default=0.0, metavar="M",
-                   help="clearance offset around the swept path (m)")
+    add_clearance_option(p)
     p.add_argument("--expect", metavar="GOLDEN.csv",
                    help="compare with this golden file of verdicts")
     p.add_argument("--write-golden", metavar="GOLDEN.csv",

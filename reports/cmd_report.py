@@ -20,7 +20,7 @@ from networks.samples.build import SAMPLES, SAMPLES_DIR
 from reports.atomic import write_text_atomic
 from reports.document import build_sections, html_document, markdown
 from reports.exports import EnvelopeRecord
-from reports.options import add_table_option, add_vehicle_option
+from reports.options import add_clearance_option, add_table_option, add_vehicle_option
 from reports.study import METHODS, Study, run_study
 from reports.tables import clearance_csv, summary_json
 from vehicles.errors import InputError
@@ -56,8 +56,7 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--method", choices=METHODS, default="simulate",
                    help="simulate: drive through libsumo with the kinematic model (default); "
                         "analytic: steady-state geometry")
-    p.add_argument("--clearance", type=float, default=0.0, metavar="M",
-                   help="clearance offset added around the swept path (m)")
+    add_clearance_option(p)
     p.add_argument("--units", choices=("m", "ft"), default="m",
                    help="units of lengths shown in the report documents")
     p.add_argument("--fcd", action="store_true",

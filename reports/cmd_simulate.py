@@ -45,7 +45,7 @@ from networks.reader import Network, read_network
 from reports.atomic import write_text_atomic
 from reports.export_geojson import write_geojson
 from reports.exports import EnvelopeRecord
-from reports.options import add_table_option, add_vehicle_option
+from reports.options import add_clearance_option, add_table_option, add_vehicle_option
 from reports.study import network_name
 from reports.text_table import format_table
 from vehicles.errors import InputError
@@ -94,8 +94,7 @@ def add_parser(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParse
                    help="only curves of this kind (repeatable; default: all)")
     p.add_argument("-o", "--output", type=Path, metavar="DIR",
                    help="write results.csv, envelopes.geojson and trajectories/ here")
-    p.add_argument("--clearance", type=float, default=0.0, metavar="M",
-                   help="clearance offset the envelope is grown by (default %(default)s m)")
+    add_clearance_option(p)
     p.add_argument("--fcd", action="store_true",
                    help="also write SUMO's FCD output (DIR/fcd.xml) for sumo-gui")
     p.add_argument("--no-sumo", action="store_true",

@@ -50,8 +50,13 @@ def _line_styles(n: int) -> list[str]:
     return ["-", "--", ":", "-."][: max(1, (n + 19) // 20)] * 20
 
 
-def plot_rho_theta(table: VehicleTable, stem: str | Path, units: str = "m") -> list[Path]:
-    """ρ(ϑ) for every model (paper Figure 5): radius of the rear-axle centre."""
+def _plot_over_theta(table: VehicleTable, stem: str | Path, units: str, column: str,
+                     ylabel: str, title: str, clip: bool) -> list[Path]:
+    """One line per model of ``column`` (metres) against the Ackermann angle, to full lock.
+
+    ``clip`` leaves out the first 0.2 degrees (where rho tends to infinity) and limits the
+    axis to six times the smallest value of any model.
+    """
     scale = length_scale(units)
     fig, ax = new_figure(7.5, 4.8)
     sweeps = _sweeps(table)
@@ -60,39 +65,36 @@ def plot_rho_theta(table: VehicleTable, stem: str | Path, units: str = "m") -> l
     for i, ((name, s), colour) in enumerate(zip(sweeps.items(), _colours(len(sweeps)),
                                                 strict=True)):
         theta = np.degrees(s.ackermann_angle_rad.to_numpy())
-        ok = theta > 0.2
-        rho = s.rho_m.to_numpy()[ok] / scale
-        ax.plot(theta[ok], rho, color=colour, linestyle=styles[i // 20], lw=1.2, label=name)
-        top = max(top, float(rho.min()) * 6)
+        keep = theta > 0.2 if clip else np.ones(len(theta), dtype=bool)
+        values = s[column].to_numpy()[keep] / scale
+        ax.plot(theta[keep], values, color=colour, linestyle=styles[i // 20], lw=1.2,
+                label=name)
+        top = max(top, float(values.min()) * 6)
     ax.set_xlabel("Ackermann angle ϑ = δ_inner − δ_outer (degrees)")
-    ax.set_ylabel(f"radius of the rear-axle centre ρ ({units})")
-    ax.set_title("Turning radius against the Ackermann angle (paper eq. 1), up to full lock")
-    ax.set_ylim(0, top)
+    ax.set_ylabel(ylabel)
+    ax.set_title(title)
+    if clip:
+        ax.set_ylim(0, top)
     ax.set_xlim(left=0)
     ax.legend(loc="center left", bbox_to_anchor=(1.01, 0.5), ncol=1 + len(sweeps) // 26,
               frameon=False)
     return save(fig, stem)
+
+
+def plot_rho_theta(table: VehicleTable, stem: str | Path, units: str = "m") -> list[Path]:
+    """ρ(ϑ) for every model (paper Figure 5): radius of the rear-axle centre."""
+    return _plot_over_theta(
+        table, stem, units, "rho_m", f"radius of the rear-axle centre ρ ({units})",
+        "Turning radius against the Ackermann angle (paper eq. 1), up to full lock", True)
 
 
 def plot_swept_width_theta(table: VehicleTable, stem: str | Path, units: str = "m"
                            ) -> list[Path]:
     """ΔR(ϑ) for every model (paper Figure 6): steady-state swept width."""
-    scale = length_scale(units)
-    fig, ax = new_figure(7.5, 4.8)
-    sweeps = _sweeps(table)
-    styles = _line_styles(len(sweeps))
-    for i, ((name, s), colour) in enumerate(zip(sweeps.items(), _colours(len(sweeps)),
-                                                strict=True)):
-        theta = np.degrees(s.ackermann_angle_rad.to_numpy())
-        ax.plot(theta, s.swept_width_m.to_numpy() / scale, color=colour,
-                linestyle=styles[i // 20], lw=1.2, label=name)
-    ax.set_xlabel("Ackermann angle ϑ = δ_inner − δ_outer (degrees)")
-    ax.set_ylabel(f"swept-path width ΔR ({units})")
-    ax.set_title("Safe-pathway width against the Ackermann angle (paper eq. 4), up to full lock")
-    ax.set_xlim(left=0)
-    ax.legend(loc="center left", bbox_to_anchor=(1.01, 0.5), ncol=1 + len(sweeps) // 26,
-              frameon=False)
-    return save(fig, stem)
+    return _plot_over_theta(
+        table, stem, units, "swept_width_m", f"swept-path width ΔR ({units})",
+        "Safe-pathway width against the Ackermann angle (paper eq. 4), up to full lock",
+        False)
 
 
 def plot_turning_circles(table: VehicleTable, stem: str | Path, units: str = "m"

@@ -20,3 +20,9 @@ def add_vehicle_option(p: argparse.ArgumentParser, required: bool = False,
 def add_units_option(p: argparse.ArgumentParser, help: str = "output length units") -> None:
     """``--units m|ft`` (default metres)."""
     p.add_argument("--units", choices=("m", "ft"), default="m", help=help)
+
+
+def add_clearance_option(p: argparse.ArgumentParser) -> None:
+    """``--clearance M``: the offset the swept envelope is grown by (default 0 m)."""
+    p.add_argument("--clearance", type=float, default=0.0, metavar="M",
+                   help="clearance offset the swept envelope is grown by (m, default 0)")
