@@ -35,7 +35,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -212,25 +212,88 @@ def signed_margin_m(
     # beyond the area holds none of it (an island the envelope covers whole), at the
     # piece's pole of inaccessibility
     lines = shapely.difference(shapely.boundary(envelope), area)
-    coords = [shapely.get_coordinates(shapely.segmentize(lines, densify_m))]
     pieces = shapely.get_parts(shapely.difference(envelope, area))
     pieces = pieces[~shapely.is_empty(pieces) & (shapely.area(pieces) > 0)]
     lone = pieces[~shapely.intersects(pieces, lines)] if not lines.is_empty else pieces
+    extra = np.empty((0, 2))
     if len(lone):
         circles = shapely.maximum_inscribed_circle(lone, densify_m)
-        coords.append(shapely.get_coordinates(shapely.get_point(circles, 0)))
-    pts = shapely.points(np.concatenate(coords))
-    if not len(pts):
+        extra = shapely.get_coordinates(shapely.get_point(circles, 0))
+    probe = np.concatenate([shapely.get_coordinates(lines), extra])
+    if not len(probe):
         return 0.0
-    # Distances to the part of the area near the points first: a distance no larger than
+    # Distances to the part of the area near the envelope first: a distance no larger than
     # the window's margin is exact (any nearer part of the area would lie in the window).
-    x0, y0, x1, y1 = shapely.total_bounds(pts)
+    x0, y0, x1, y1 = shapely.total_bounds(shapely.multipoints(probe))
     near = shapely.clip_by_rect(area, x0 - NEAR_M, y0 - NEAR_M, x1 + NEAR_M, y1 + NEAR_M)
-    d = shapely.distance(pts, near) if not near.is_empty else np.full(len(pts), np.inf)
-    far = ~(d <= NEAR_M)
-    if far.any():
-        d[far] = shapely.distance(pts[far], area)
-    return -float(np.max(d))
+
+    def distance(xy: np.ndarray) -> np.ndarray:
+        pts = shapely.points(xy)
+        d = shapely.distance(pts, near) if not near.is_empty else np.full(len(pts), np.inf)
+        far = ~(d <= NEAR_M)
+        if far.any():
+            d[far] = shapely.distance(pts[far], area)
+        return d
+
+    deepest = farthest_on_lines(lines, distance, densify_m / 2)
+    if len(extra):
+        deepest = max(deepest, float(np.max(distance(extra))))
+    return -deepest
+
+
+def farthest_on_lines(
+    lines: BaseGeometry,
+    distance: Callable[[np.ndarray], np.ndarray],
+    tolerance_m: float,
+) -> float:
+    """Largest value of a distance function over lines, found to within ``tolerance_m``.
+
+    ``distance`` maps ``(k, 2)`` points to ``(k,)`` distances and must be 1-Lipschitz (a
+    distance to a fixed set is). Branch and bound: on a segment of length ``L`` whose ends
+    are at ``d_a`` and ``d_b`` no point is farther than ``(d_a + d_b + L) / 2``, so only
+    segments that could beat the best point found so far by more than the tolerance are
+    halved and probed at their midpoints, until none is left. The result is short of the
+    true maximum by at most ``tolerance_m``, with far fewer probes than an even densification
+    where most of the lines are not the farthest.
+
+    Examples
+    --------
+    The distance from a circle of radius 1 about the origin, along a 10 m segment through it:
+
+    >>> line = shapely.LineString([(-5.0, 0.2), (5.0, 0.2)])
+    >>> to_circle = lambda p: np.abs(np.hypot(p[:, 0], p[:, 1]) - 1.0)
+    >>> round(farthest_on_lines(line, to_circle, 0.01), 2)
+    4.0
+
+    The farthest point inside a segment, not at its ends (the distance to the x axis along a
+    roof line); and no lines at all:
+
+    >>> roof = shapely.LineString([(0.0, 0.0), (4.0, 3.0), (8.0, 0.0)])
+    >>> farthest_on_lines(roof, lambda p: np.abs(p[:, 1]), 0.01)
+    3.0
+    >>> farthest_on_lines(shapely.LineString(), lambda p: np.abs(p[:, 1]), 0.01)
+    0.0
+    """
+    coords, part = shapely.get_coordinates(shapely.get_parts(lines), return_index=True)
+    if not len(coords):
+        return 0.0
+    d = distance(coords)
+    best = float(np.max(d))
+    joined = part[1:] == part[:-1]
+    a, b = coords[:-1][joined], coords[1:][joined]
+    da, db = d[:-1][joined], d[1:][joined]
+    while len(a):
+        bound = 0.5 * (da + db + np.hypot(b[:, 0] - a[:, 0], b[:, 1] - a[:, 1]))
+        open_ = bound > best + tolerance_m
+        if not open_.any():
+            break
+        a, b, da, db = a[open_], b[open_], da[open_], db[open_]
+        mid = 0.5 * (a + b)
+        dm = distance(mid)
+        best = max(best, float(np.max(dm)))
+        a, b = np.concatenate([a, mid]), np.concatenate([mid, b])
+        da, db = np.concatenate([da, dm]), np.concatenate([dm, db])
+    return best
 
 
 @dataclass(frozen=True)

@@ -11,7 +11,11 @@ envelopes, verdicts). Prints medians over the repeats:
 - complete runs per second through SUMO (target >= 100 on one core);
 - the ratio of the two wall-clock times (target: through SUMO at most twice as long).
 
-Run: ``python benchmarks/bench_simulate.py [--repeats 5] [--vehicle NAME ...] [--batch 100]``
+SUMO steps at the driver's default (0.2 s, every second sample of the model's 0.1 s);
+``--sumo-step 0.1`` shows every model sample in SUMO.
+
+Run: ``python benchmarks/bench_simulate.py [--repeats 5] [--vehicle NAME ...] [--batch 100]
+[--sumo-step S]``
 """
 
 from __future__ import annotations
@@ -35,6 +39,8 @@ def main() -> None:
     parser.add_argument("--vehicle", action="append", help="vehicle names (repeatable)")
     parser.add_argument("--batch", type=int, default=100, help="vehicles in flight")
     parser.add_argument("--sample", default="intersection", choices=samples.SAMPLES)
+    parser.add_argument("--sumo-step", type=float, default=DriveOptions.sumo_step_s,
+                        help="SUMO step length (s; default %(default)s)")
     args = parser.parse_args()
 
     names = args.vehicle or list(DEFAULT_VEHICLES)
@@ -60,7 +66,8 @@ def main() -> None:
     for _ in range(args.repeats):
         st = DriveStats()
         c0, t0 = time.process_time(), time.perf_counter()
-        runs = drive(net, pairs, options=DriveOptions(batch_size=args.batch), stats=st)
+        runs = drive(net, pairs, options=DriveOptions(batch_size=args.batch,
+                                                      sumo_step_s=args.sumo_step), stats=st)
         with_t.append(time.perf_counter() - t0)
         with_cpu.append(time.process_time() - c0)
         c0, t0 = time.process_time(), time.perf_counter()
@@ -82,7 +89,8 @@ def main() -> None:
     n = len(pairs)
     w, wo = statistics.median(with_t), statistics.median(without_t)
     print(f"{len(vehicles)} vehicles x {len(curves)} curves of '{args.sample}' = {n} runs, "
-          f"{min(args.batch, n)} in flight, median of {args.repeats} repeats")
+          f"{min(args.batch, n)} in flight, SUMO step {args.sumo_step} s, "
+          f"median of {args.repeats} repeats")
     print(f"  SUMO session:        {statistics.median(sumo_s):7.3f} s  {vsteps} vehicle-steps "
           f"in {steps} steps: {statistics.median(rates):,.0f} vehicle-steps/s "
           f"(by CPU time {statistics.median(cpu_rates):,.0f})")

@@ -5,12 +5,16 @@ How a run is driven
 The kinematic model (:func:`analysis.tracking.simulate_batch`) decides where a vehicle is:
 SUMO has no wheelbase, steering lock or trailer dynamics, so it cannot compute that itself.
 SUMO is the stage: every run becomes one SUMO vehicle of its own vType, placed at every
-time step with ``vehicle.moveToXY(..., keepRoute=2)`` at the model's front-bumper centre
-and heading (navigational degrees), with the edge and lane the curve's centre line runs on
-at that station as the hint and a small ``matchThreshold``. Its route is the curve's normal
-edges. After each step SUMO's reported position (``vehicle.getPosition``, the front-bumper
-centre) is read back for every vehicle in flight and compared with the model: the largest
-deviation of each run is recorded (:attr:`DrivenRun.sumo_max_deviation_m`), and one beyond
+SUMO step with ``vehicle.moveToXY(..., keepRoute=2)`` at the model's front-bumper centre
+and heading (navigational degrees) at that instant, with the edge and lane the curve's
+centre line runs on at that station as the hint and a small ``matchThreshold``. SUMO steps
+every :attr:`DriveOptions.sumo_step_s` (0.2 s: every second sample of the model's 0.1 s
+step, 0.4 m at crawl speed); the model computes at its own step whatever SUMO's, so SUMO's
+step changes neither the swept paths nor the verdicts, only how often SUMO shows them.
+Its route is the curve's normal edges. After each step SUMO's reported position
+(``vehicle.getPosition``, the front-bumper centre) is read back for every vehicle in flight
+and compared with the model: the largest deviation of each run is recorded
+(:attr:`DrivenRun.sumo_max_deviation_m`), and one beyond
 :attr:`DriveOptions.deviation_tolerance_m` is logged as a warning.
 
 Up to :attr:`DriveOptions.batch_size` runs are in flight at once (one vehicle per vehicle x
@@ -23,6 +27,8 @@ vTypes
 One vType per vehicle model: length (the towing unit's body), width, height, a shape class
 by category (:func:`shape_class`), and our geometry as parameters (:func:`vtype_parameters`:
 wheelbase, overhangs, track, steering lock and rate, steered axle, trailer dimensions).
+Its action step length is a day (:data:`NO_DECISIONS_S`): SUMO's driver model never acts on
+a vehicle the model places.
 
 Trailers
 --------
@@ -102,6 +108,15 @@ from vehicles.vehicle import Vehicle
 
 log = logging.getLogger(__name__)
 
+NO_DECISIONS_S = 86400.0
+"""Action step length of our vTypes (s): SUMO's driver model decides once, when a vehicle
+is added, and never again during a run. The model places every vehicle at every step, so
+SUMO's car-following and lane-change decisions would be computed only to be overridden;
+skipping them makes a SUMO step about five times cheaper."""
+
+DEFAULT_SUMO_STEP_S = 0.2
+"""SUMO's default step length (s): every second sample of the model's default 0.1 s."""
+
 @dataclass(frozen=True)
 class DriveOptions:
     """How runs are driven through SUMO.
@@ -120,6 +135,11 @@ class DriveOptions:
         Clearance offset the envelopes are grown by before the verdict.
     use_sumo
         ``False`` computes the same runs without SUMO (model, envelopes, verdicts only).
+    sumo_step_s
+        SUMO's step length (s): a whole multiple of the model's time step, or ``None`` for
+        the model's own step. Every SUMO step places each vehicle at the model's sample of
+        that instant (and at the run's last sample); the model itself always runs at its own
+        step, so the swept paths and verdicts do not depend on this.
     max_restarts
         Restarts of SUMO after a failed simulation step, before the queued runs fail too.
     """
@@ -131,6 +151,7 @@ class DriveOptions:
     offset_m: float = 0.0
     use_sumo: bool = True
     max_restarts: int = 2
+    sumo_step_s: float | None = DEFAULT_SUMO_STEP_S
 
     def __post_init__(self) -> None:
         if not (isinstance(self.batch_size, int) and self.batch_size >= 1):
@@ -141,6 +162,38 @@ class DriveOptions:
                 raise InputError(f"drive options: {name} must be > 0, got {value!r}")
         if not (math.isfinite(self.offset_m) and self.offset_m >= 0):
             raise InputError(f"clearance offset must be a number >= 0 m, got {self.offset_m!r}")
+        if self.sumo_step_s is not None and not (
+                isinstance(self.sumo_step_s, int | float) and math.isfinite(self.sumo_step_s)
+                and self.sumo_step_s > 0):
+            raise InputError(f"drive options: the SUMO step must be a positive number of "
+                             f"seconds, got {self.sumo_step_s!r}")
+
+    def samples_per_step(self, dt_s: float) -> int:
+        """Model samples per SUMO step, for a model time step ``dt_s``.
+
+        Raises
+        ------
+        InputError
+            The SUMO step is not a whole multiple of ``dt_s``.
+
+        Examples
+        --------
+        >>> DriveOptions(sumo_step_s=0.2).samples_per_step(0.1)
+        2
+        >>> DriveOptions(sumo_step_s=None).samples_per_step(0.1)
+        1
+        >>> DriveOptions(sumo_step_s=0.25).samples_per_step(0.1)
+        Traceback (most recent call last):
+        ...
+        vehicles.errors.InputError: the SUMO step (0.25 s) must be a whole multiple of ...
+        """
+        if self.sumo_step_s is None:
+            return 1
+        k = round(self.sumo_step_s / dt_s)
+        if k < 1 or abs(k * dt_s - self.sumo_step_s) > 1e-9 * max(1.0, self.sumo_step_s):
+            raise InputError(f"the SUMO step ({self.sumo_step_s:g} s) must be a whole multiple "
+                             f"of the model's time step ({dt_s:g} s)")
+        return k
 
 
 @dataclass
@@ -285,6 +338,7 @@ class _Plan:
     route: str
     units: list[_Unit]
     n: int
+    samples: np.ndarray
     k: int = 0
     max_dev: float = 0.0
 
@@ -313,7 +367,8 @@ def drive(
         Vehicle and curve of each run; curves need their areas
         (``extract_curves(net, ..., areas=True)``).
     settings
-        Tracking settings of the model (time step = SUMO step length).
+        Tracking settings of the model (SUMO's step is a whole multiple of its time
+        step, :attr:`DriveOptions.sumo_step_s`).
     options
         Batch size, FCD output, clearance offset, with or without SUMO.
     stats
@@ -326,6 +381,7 @@ def drive(
     """
     settings = settings or TrackingSettings()
     options = options or DriveOptions()
+    options.samples_per_step(settings.dt_s)  # refuses a SUMO step that does not fit
     pairs = list(pairs)
     areas = {}
     for _, c in pairs:
@@ -390,6 +446,7 @@ class _SumoSession:
         self.settings = settings
         self.options = options
         self.lane_ends = lane_ends
+        self.every = options.samples_per_step(settings.dt_s)
         self.traci = _import_libsumo()
         self.vtypes: dict[str, str] = {}
         self.routes: dict[str, str] = {}
@@ -402,7 +459,7 @@ class _SumoSession:
     def _start(self) -> None:
         cmd = ["sumo", "-n", self.net_path, "--no-step-log", "true", "--no-warnings", "true",
                "--collision.action", "none", "--time-to-teleport", "-1",
-               "--step-length", repr(self.settings.dt_s)]
+               "--step-length", repr(self.every * self.settings.dt_s)]
         if self.options.fcd_output is not None:
             cmd += ["--fcd-output", os.fspath(self.options.fcd_output),
                     "--fcd-output.attributes", "x,y,z,angle,type,speed"]
@@ -508,6 +565,7 @@ class _SumoSession:
                 t.vehicletype.setHeight(tid, v.height_m)
             t.vehicletype.setShapeClass(tid, shape_class(v.category))
             t.vehicletype.setParameter(tid, "model", v.name)
+            t.vehicletype.setActionStepLength(tid, NO_DECISIONS_S, True)
             for k, val in vtype_parameters(v).items():
                 t.vehicletype.setParameter(tid, k, val)
             if v.trailer is not None:
@@ -519,6 +577,7 @@ class _SumoSession:
                     t.vehicletype.setHeight(tt, v.height_m)
                 t.vehicletype.setShapeClass(tt, "truck")
                 t.vehicletype.setParameter(tt, "model", f"{v.name} (trailer)")
+                t.vehicletype.setActionStepLength(tt, NO_DECISIONS_S, True)
             self.vtypes[key] = tid
         tid = self.vtypes[key]
         return tid, (f"{tid}.trailer" if v.trailer is not None else None)
@@ -560,17 +619,21 @@ class _SumoSession:
                        remove=False)
             return None
         own = d.curve.own_lanes
-        x, y = front_bumper(run)
-        angle = np.asarray(heading_rad_to_navigational(run.trajectory.theta_rad))
-        edges, lanes = self._hints(d.curve, run.trajectory.s_m + d.vehicle.front_overhang_m)
+        # the model's samples SUMO shows: one per SUMO step, and the last
+        n = len(run.trajectory.t_s)
+        at = np.unique(np.append(np.arange(0, n, self.every), n - 1))
+        x, y = (c[at] for c in front_bumper(run))
+        angle = np.asarray(heading_rad_to_navigational(run.trajectory.theta_rad[at]))
+        edges, lanes = self._hints(d.curve,
+                                   run.trajectory.s_m[at] + d.vehicle.front_overhang_m)
         units = [_Unit(vid, tid, x.tolist(), y.tolist(), angle.tolist(), first_on(own, x, y),
                        edges, lanes)]
         if ttid is not None:  # no hint for the trailer: SUMO matches it to the nearest lane
-            tx, ty, th_t = trailer_front(run)
+            tx, ty, th_t = (c[at] for c in trailer_front(run))
             units.append(_Unit(vid + ".trailer", ttid, tx.tolist(), ty.tolist(),
                                np.asarray(heading_rad_to_navigational(th_t)).tolist(),
                                first_on(own, tx, ty), [""] * len(tx), [-1] * len(tx)))
-        return _Plan(i, rid, units, len(x))
+        return _Plan(i, rid, units, len(at), at)
 
     def _add_vehicle(self, vid: str, route: str, vtype: str) -> None:
         """Add a vehicle; where SUMO refuses it, retry free of SUMO's rules.
@@ -615,10 +678,11 @@ class _SumoSession:
                 # keepRoute=2: exactly here, also off the route and inside junctions
                 move(u.vid, u.edge[k], u.lane[k], u.x[k], u.y[k], u.angle[k], 2, thr)
         except self.traci.TraCIException as exc:
-            t_s = float(self.out[plan.index].run.trajectory.t_s[k])
+            sample = int(plan.samples[k])
+            t_s = float(self.out[plan.index].run.trajectory.t_s[sample])
             self._fail(plan.index, plan.vid,
                        f"SUMO could not place vehicle {plan.vid} at t = {t_s:.2f} s "
-                       f"(sample {k}): {exc}", k, plan.max_dev, plan)
+                       f"(sample {sample}): {exc}", k, plan.max_dev, plan)
             return False
         return True
 
@@ -634,8 +698,8 @@ class _SumoSession:
                     if dev > plan.max_dev:
                         plan.max_dev = dev
         except self.traci.TraCIException as exc:
-            self._fail(plan.index, plan.vid, f"SUMO lost vehicle {plan.vid} at sample {k}: "
-                       f"{exc}", k, plan.max_dev, plan)
+            self._fail(plan.index, plan.vid, f"SUMO lost vehicle {plan.vid} at sample "
+                       f"{int(plan.samples[k])}: {exc}", k, plan.max_dev, plan)
             return False
         plan.k = k + 1
         return True

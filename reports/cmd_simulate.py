@@ -99,6 +99,10 @@ def add_parser(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParse
                    help="also write SUMO's FCD output (DIR/fcd.xml) for sumo-gui")
     p.add_argument("--no-sumo", action="store_true",
                    help="compute the runs without SUMO (model, envelopes and verdicts only)")
+    p.add_argument("--sumo-step", type=float, default=DriveOptions.sumo_step_s, metavar="S",
+                   help="SUMO's step length in seconds, a whole multiple of the model's "
+                        f"{TrackingSettings.dt_s:g} s step (default %(default)s; the model "
+                        "and the verdicts do not depend on it)")
     p.add_argument("--batch", type=int, default=DriveOptions.batch_size, metavar="N",
                    help="vehicles in flight in SUMO at once (default %(default)s)")
     p.add_argument("--limit", type=int, default=60, metavar="N",
@@ -130,7 +134,9 @@ def run(args: argparse.Namespace) -> int:
         fcd_tmp = fcd.with_name(".fcd.xml.tmp")  # SUMO writes here; renamed when complete
     settings = TrackingSettings()
     options = DriveOptions(batch_size=args.batch, offset_m=args.clearance,
-                           use_sumo=not args.no_sumo, fcd_output=fcd_tmp)
+                           use_sumo=not args.no_sumo, fcd_output=fcd_tmp,
+                           sumo_step_s=args.sumo_step)
+    options.samples_per_step(settings.dt_s)  # a step that does not fit: exit 2 before work
     runs = drive(net, [(v, c) for v in vehicles for c in curves], settings, options)
     if fcd is not None and fcd_tmp is not None:
         os.replace(fcd_tmp, fcd)
@@ -140,7 +146,9 @@ def run(args: argparse.Namespace) -> int:
         write_outputs(args.output, runs, rows, net)
         if fcd is not None:
             config = write_text_atomic(args.output / "replay.sumocfg",
-                                       replay_config(Path(net.path).resolve(), settings.dt_s))
+                                       replay_config(Path(net.path).resolve(),
+                                                     options.samples_per_step(settings.dt_s)
+                                                     * settings.dt_s))
             print("replay in sumo-gui: " + REPLAY_COMMAND.format(config=config, fcd=fcd))
         print(f"wrote {len(rows)} run(s) to {args.output}")
     return 0

@@ -38,6 +38,11 @@ def nets():
     return out
 
 
+def _shown(n: int, every: int = 2) -> np.ndarray:
+    """The model's samples SUMO shows: every ``every``-th and the last (0.2 s of 0.1 s)."""
+    return np.unique(np.append(np.arange(0, n, every), n - 1))
+
+
 def _curve(curves, start: str, end: str):
     """The curve whose id starts with ``start`` and contains ``end`` (lane indices vary)."""
     hits = [c for c in curves if c.curve_id.startswith(start) and end in c.curve_id]
@@ -89,7 +94,7 @@ def test_designed_verdicts(driven, row):
 
 def test_sumo_positions_agree_with_the_model(driven):
     for row, run in driven.items():
-        assert run.sumo_steps == len(run.run.trajectory), row
+        assert run.sumo_steps == len(_shown(len(run.run.trajectory))), row
         assert run.sumo_max_deviation_m < 1e-6, row
 
 
@@ -110,30 +115,56 @@ def test_trailer_and_tractor_both_checked(nets, table):
         (run,) = drive(net, [(wb, curve)], options=DriveOptions())
     finally:
         mp.undo()
-    n = len(run.run.trajectory)
+    n = len(_shown(len(run.run.trajectory)))
     assert placed["v0"] == n
     # the trailer joins once its front is on the curve's lanes, and stays to the end
     assert 0 < placed["v0.trailer"] <= n
     assert run.sumo_max_deviation_m < 1e-6
 
 
-def test_fcd_output_replays_the_model(nets, table, tmp_path):
+@pytest.mark.parametrize("sumo_step_s, every", [(0.2, 2), (None, 1), (0.5, 5)])
+def test_fcd_output_replays_the_model(nets, table, tmp_path, sumo_step_s, every):
     net, curves = nets["intersection"]
     curve = _curve(curves, "turn:X:XN_in_0", "XW_out_0")
     fcd = tmp_path / "fcd.xml"
     car = table.vehicle("P")
-    (run,) = drive(net, [(car, curve)], options=DriveOptions(fcd_output=fcd))
-    steps = ET.parse(fcd).getroot().findall("timestep")
-    assert len(steps) == len(run.run.trajectory)
+    (run,) = drive(net, [(car, curve)],
+                   options=DriveOptions(fcd_output=fcd, sumo_step_s=sumo_step_s))
+    root = ET.parse(fcd).getroot()
+    steps = root.findall("timestep")
+    at = _shown(len(run.run.trajectory), every)
+    assert len(steps) == len(at)
+    assert float(steps[1].get("time")) - float(steps[0].get("time")) == pytest.approx(
+        every * 0.1)
     x, y = driver.front_bumper(run.run)
     for k in (0, len(steps) // 2, len(steps) - 1):
         (veh,) = steps[k].findall("vehicle")
         assert veh.get("id") == "v0"
-        assert float(veh.get("x")) == pytest.approx(x[k], abs=0.01)
-        assert float(veh.get("y")) == pytest.approx(y[k], abs=0.01)
+        assert float(veh.get("x")) == pytest.approx(x[at[k]], abs=0.01)
+        assert float(veh.get("y")) == pytest.approx(y[at[k]], abs=0.01)
         heading = math.radians(90.0 - float(veh.get("angle")))
-        theta = run.run.trajectory.theta_rad[k]
+        theta = run.run.trajectory.theta_rad[at[k]]
         assert math.remainder(heading - theta, 2 * math.pi) == pytest.approx(0.0, abs=1e-3)
+
+
+def test_sumo_step_changes_neither_paths_nor_verdicts(nets, table, driven):
+    net, curves = nets["roundabout"]
+    rows = [d for d in DESIGNED if d[0] == "roundabout"]
+    pairs = [(table.vehicle(v), _curve(curves, a, b)) for _, v, a, b, _, _ in rows]
+    coarse = drive(net, pairs, options=DriveOptions(sumo_step_s=0.5))
+    for row, run in zip(rows, coarse, strict=True):
+        fine = driven[row]  # SUMO at its default step
+        assert run.error == "" and run.verdict == fine.verdict
+        assert run.result.margin_m == fine.result.margin_m
+        assert run.sumo_max_deviation_m < 1e-6
+        assert run.sumo_steps == len(_shown(len(run.run.trajectory), 5))
+
+
+def test_sumo_step_must_fit_the_model_step(nets, table):
+    net, pairs = _pairs(nets, table, 1)
+    for bad in (0.25, 0.05, 0.0, -0.2, math.nan):
+        with pytest.raises(InputError, match="SUMO step"):
+            drive(net, pairs, options=DriveOptions(sumo_step_s=bad))
 
 
 def test_without_sumo_same_verdicts(nets, table, driven):
@@ -194,11 +225,11 @@ def test_vehicle_removed_behind_the_drivers_back(nets, table):
     finally:
         mp.undo()
     assert runs[1].verdict == "error"
-    assert "v1" in runs[1].error and "sample 19" in runs[1].error
+    assert "v1" in runs[1].error and "sample 38" in runs[1].error  # SUMO step 19
     assert runs[1].sumo_steps == 19
     for i in (0, 2, 3):
         assert runs[i].error == "" and runs[i].verdict == "clear"
-        assert runs[i].sumo_steps == len(runs[i].run.trajectory)
+        assert runs[i].sumo_steps == len(_shown(len(runs[i].run.trajectory)))
     # the model's result is kept for the failed run too
     assert runs[1].result.verdict == "clear"
 

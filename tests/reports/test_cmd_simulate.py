@@ -114,6 +114,8 @@ def test_summary_printed(tmp_path, capsys):
      "unknown curve 'turn:X:XN_in_0->XW_out_1'; did you mean 'turn:X:XN_in_0->XW_out_0'"),
     (["--clearance", "-1"], "--clearance must be a length >= 0 m"),
     (["--fcd"], "--fcd needs an output folder"),
+    (["--sumo-step", "0.15"], "the SUMO step (0.15 s) must be a whole multiple"),
+    (["--sumo-step", "0"], "the SUMO step must be a positive number"),
 ])
 def test_bad_input_exits_2(extra, message, capsys):
     args = ["simulate", "-n", str(NET), "-t", str(TABLE), "--vehicle", "P", *extra]
