@@ -15,9 +15,10 @@ Verdicts (DESIGN.md section 6), worst first:
 Margins are signed distances between the envelope (grown by the clearance offset) and an
 area: ``>= 0`` is the smallest gap between the envelope and the area's boundary when the
 envelope lies inside the area; ``< 0`` is minus how far the envelope reaches beyond it (the
-largest distance from the area of any point of the envelope outside it, evaluated on that
-outside part's boundary densified every ``densify_m``, so within ``densify_m / 2``, or at
-the pole of inaccessibility of a piece the envelope covers whole, such as an island).
+largest distance from the area of any point of the envelope outside it, sought on that
+outside part's boundary by branch and bound to within ``densify_m / 2``
+(:func:`farthest_on_lines`), or at the pole of inaccessibility of a piece the envelope
+covers whole, such as an island).
 ``margin_m`` is the margin to the own lanes, the one that decides between ``clear`` and
 ``encroaches``. An overreach smaller than :data:`PRECISION_M` counts as zero: SUMO writes
 network coordinates to the centimetre, and its lanes kink where a smooth path does not.
@@ -56,7 +57,7 @@ VERDICTS = ("cannot-turn", "fails", "encroaches", "clear")
 """Verdicts, worst first."""
 
 DEFAULT_DENSIFY_M = 0.05
-"""Spacing of the points where an overreach is measured (m)."""
+"""An overreach is found to within half this (m); also the pole-of-inaccessibility tolerance."""
 
 NEAR_M = 5.0
 """Margins are first sought within this distance of the envelope's bounding box (m)."""
@@ -185,9 +186,10 @@ def signed_margin_m(
     """
     if envelope.is_empty:
         raise InputError("signed_margin_m: the envelope is empty")
-    outside = shapely.difference(envelope, area)
-    if ignore is not None:
-        outside = shapely.difference(outside, ignore)
+    beyond = shapely.difference(envelope, area)
+    outside = beyond
+    if ignore is not None and shapely.area(beyond) >= 1e-6:
+        outside = shapely.difference(beyond, ignore)
     if shapely.area(outside) < 1e-6:
         # covered, but for slivers under a square millimetre (floating-point noise along a
         # shared edge) and what pokes out in the ignored region (past the trimmed ends)
@@ -212,7 +214,7 @@ def signed_margin_m(
     # beyond the area holds none of it (an island the envelope covers whole), at the
     # piece's pole of inaccessibility
     lines = shapely.difference(shapely.boundary(envelope), area)
-    pieces = shapely.get_parts(shapely.difference(envelope, area))
+    pieces = shapely.get_parts(beyond)
     pieces = pieces[~shapely.is_empty(pieces) & (shapely.area(pieces) > 0)]
     lone = pieces[~shapely.intersects(pieces, lines)] if not lines.is_empty else pieces
     extra = np.empty((0, 2))
@@ -222,23 +224,57 @@ def signed_margin_m(
     probe = np.concatenate([shapely.get_coordinates(lines), extra])
     if not len(probe):
         return 0.0
-    # Distances to the part of the area near the envelope first: a distance no larger than
-    # the window's margin is exact (any nearer part of the area would lie in the window).
-    x0, y0, x1, y1 = shapely.total_bounds(shapely.multipoints(probe))
-    near = shapely.clip_by_rect(area, x0 - NEAR_M, y0 - NEAR_M, x1 + NEAR_M, y1 + NEAR_M)
+    # Distances to the boundary of the part of the area near the envelope first (every probe
+    # lies outside the area, so its distance to the area is that to the boundary): one no
+    # larger than the window's margin is exact (any nearer part would lie in the window).
+    lo, hi = probe.min(axis=0) - NEAR_M, probe.max(axis=0) + NEAR_M
+    near = shapely.clip_by_rect(area, lo[0], lo[1], hi[0], hi[1])
+    rings = shapely.get_rings(shapely.get_parts(near))
+    edges = [np.stack([c[:-1], c[1:]], axis=1)
+             for c in (shapely.get_coordinates(r) for r in rings) if len(c) > 1]
+    segs = np.concatenate(edges) if edges else np.empty((0, 2, 2))
 
     def distance(xy: np.ndarray) -> np.ndarray:
-        pts = shapely.points(xy)
-        d = shapely.distance(pts, near) if not near.is_empty else np.full(len(pts), np.inf)
+        d = _distance_to_segments(xy, segs)
         far = ~(d <= NEAR_M)
         if far.any():
-            d[far] = shapely.distance(pts[far], area)
+            d[far] = shapely.distance(shapely.points(xy[far]), area)
         return d
 
     deepest = farthest_on_lines(lines, distance, densify_m / 2)
     if len(extra):
         deepest = max(deepest, float(np.max(distance(extra))))
     return -deepest
+
+
+def _distance_to_segments(xy: np.ndarray, segs: np.ndarray, chunk: int = 250_000) -> np.ndarray:
+    """Distance from each point ``(k, 2)`` to the nearest of the segments ``(m, 2, 2)``.
+
+    ``inf`` for every point when there is no segment.
+
+    Examples
+    --------
+    >>> segs = np.array([[[0.0, 0.0], [10.0, 0.0]], [[10.0, 0.0], [10.0, 5.0]]])
+    >>> _distance_to_segments(np.array([[5.0, 2.0], [13.0, 9.0], [5.0, 0.0]]), segs).tolist()
+    [2.0, 5.0, 0.0]
+    >>> _distance_to_segments(np.array([[1.0, 1.0]]), np.empty((0, 2, 2))).tolist()
+    [inf]
+    """
+    if not len(segs):
+        return np.full(len(xy), np.inf)
+    a = segs[:, 0]
+    d = segs[:, 1] - a
+    dd = np.maximum(np.einsum("ij,ij->i", d, d), 1e-300)
+    out = np.empty(len(xy))
+    step = max(1, chunk // len(segs))
+    for k in range(0, len(xy), step):
+        rx = xy[k:k + step, None, 0] - a[None, :, 0]
+        ry = xy[k:k + step, None, 1] - a[None, :, 1]
+        t = np.minimum(np.maximum((rx * d[:, 0] + ry * d[:, 1]) / dd, 0.0), 1.0)
+        rx -= t * d[:, 0]
+        ry -= t * d[:, 1]
+        out[k:k + step] = np.sqrt(np.min(rx * rx + ry * ry, axis=1))
+    return out
 
 
 def farthest_on_lines(
@@ -346,7 +382,7 @@ def classify(
         Non-empty when the run could not follow the curve: the verdict is then
         ``cannot-turn`` whatever the margins.
     densify_m
-        Spacing of the points where an overreach is measured.
+        An overreach is found to within half this (m).
     ignore
         Region where the areas' boundaries do not count for the gaps (see
         :func:`signed_margin_m`).
