@@ -14,10 +14,13 @@ array([[...]])
 
 from __future__ import annotations
 
+import gc
 import logging
 import os
 import warnings
 from collections import defaultdict
+from collections.abc import Iterator
+from contextlib import contextmanager
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -222,16 +225,43 @@ def read_network(path: str | os.PathLike[str]) -> Network:
         remove_pis=True,
         collect_ids=False,
     )
+    with gc_paused():  # a million objects that live on: collections would only scan them
+        try:
+            with open_binary(p) as fh:
+                while chunk := fh.read(_CHUNK_BYTES):
+                    parser.feed(chunk)
+            parser.close()
+        except etree.XMLSyntaxError as exc:
+            raise InputError(f"{p}: malformed or truncated XML ({exc})") from exc
+        except (EOFError, OSError) as exc:
+            raise InputError(f"{p}: truncated or corrupt file ({exc})") from exc
+        return state.finish()
+
+
+@contextmanager
+def gc_paused() -> Iterator[None]:
+    """Pause Python's cyclic garbage collector inside the block (restored after).
+
+    Building many objects that all stay alive makes the collector scan them again and
+    again for nothing (about a third of the time of reading a large network); the
+    objects made here hold no reference cycles, so nothing is left for it to free.
+
+    Examples
+    --------
+    >>> import gc
+    >>> with gc_paused():
+    ...     gc.isenabled()
+    False
+    >>> gc.isenabled()
+    True
+    """
+    was_enabled = gc.isenabled()
+    gc.disable()
     try:
-        with open_binary(p) as fh:
-            while chunk := fh.read(_CHUNK_BYTES):
-                parser.feed(chunk)
-        parser.close()
-    except etree.XMLSyntaxError as exc:
-        raise InputError(f"{p}: malformed or truncated XML ({exc})") from exc
-    except (EOFError, OSError) as exc:
-        raise InputError(f"{p}: truncated or corrupt file ({exc})") from exc
-    return state.finish()
+        yield
+    finally:
+        if was_enabled:
+            gc.enable()
 
 
 _CHUNK_BYTES = 1 << 22
