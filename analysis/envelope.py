@@ -281,7 +281,7 @@ def _nearest_on_segments(
     rx, ry = qx[:, None] - ax, qy[:, None] - ay
     dd = dx * dx + dy * dy
     dd_safe = np.where(dd > 0, dd, 1.0)
-    t = np.clip((rx * dx + ry * dy) / dd_safe, 0.0, 1.0)
+    t = np.minimum(np.maximum((rx * dx + ry * dy) / dd_safe, 0.0), 1.0)
     d2 = (rx - t * dx) ** 2 + (ry - t * dy) ** 2
     best = np.argmin(d2, axis=1)
     return d2[np.arange(len(qx)), best], best
@@ -304,7 +304,7 @@ def _offtracking(
     arc = np.concatenate([[0.0], np.cumsum(np.hypot(np.diff(px), np.diff(py)))])
     idx = np.arange(n) + 1  # sample i is point idx[i] of the extended path
     lo = np.searchsorted(arc, arc[idx] - (2.0 * gap + 1.0), side="right") - 1
-    lo = np.clip(lo, 0, idx - 1)
+    lo = np.minimum(np.maximum(lo, 0), idx - 1)
     width = int((idx - lo).max())
     c = max(1, round(math.sqrt(width / 3.0)))  # balances the coarse and the fine pass
     # coarse pass: chords between every c-th point, clipped to the current sample
@@ -315,11 +315,12 @@ def _offtracking(
     dx, dy = px[cpts[:, 1:]] - ax, py[cpts[:, 1:]] - ay
     rx, ry = qx[:, None] - ax, qy[:, None] - ay
     dd = dx * dx + dy * dy
-    t = np.clip((rx * dx + ry * dy) / np.where(dd > 0, dd, 1.0), 0.0, 1.0)
+    t = np.minimum(np.maximum((rx * dx + ry * dy) / np.where(dd > 0, dd, 1.0), 0.0), 1.0)
     best = np.argmin((rx - t * dx) ** 2 + (ry - t * dy) ** 2, axis=1)
     near = cpts[np.arange(n), best]
     # fine pass around the nearest chord
-    seg = np.clip(near[:, None] + np.arange(-c, 2 * c)[None, :], lo[:, None], idx[:, None] - 1)
+    seg = np.minimum(np.maximum(near[:, None] + np.arange(-c, 2 * c)[None, :], lo[:, None]),
+                     idx[:, None] - 1)
     d2, _ = _nearest_on_segments(px, py, seg, qx, qy)
     return np.sqrt(d2)
 

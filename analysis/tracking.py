@@ -467,7 +467,7 @@ def _run(vehicles: list[Vehicle], paths: list[Path], st: TrackingSettings) -> li
         s_f = station[rows, seg] + along
         v_f = profile.speed(s_f, t)
         seg_len = station[rows, seg + 1] - station[rows, seg]
-        frac = np.clip(along / seg_len, 0.0, 1.0)
+        frac = np.minimum(np.maximum(along / seg_len, 0.0), 1.0)
         th_path = heading[rows, seg] + frac * (heading[rows, seg + 1] - heading[rows, seg])
         heading_err = (th_path - th + np.pi) % (2 * np.pi) - np.pi
         cmd = heading_err - np.arctan(st.gain_1_s * err / (v_f + SOFT_SPEED_M_S))
@@ -478,7 +478,7 @@ def _run(vehicles: list[Vehicle], paths: list[Path], st: TrackingSettings) -> li
             k_cmd = (k_path * np.cos(heading_err) / np.maximum(1.0 - k_path * err, 0.1)
                      + 2.0 * heading_err / settle - err / settle**2)
             cmd = np.where(rear_steer, np.arctan(wb * k_cmd), cmd)
-        cmd = np.clip(cmd, -MAX_COMMAND_RAD, MAX_COMMAND_RAD)
+        cmd = np.minimum(np.maximum(cmd, -MAX_COMMAND_RAD), MAX_COMMAND_RAD)
         new_phi = limit_steering(phi, cmd, lock, rate, dt)
 
         # finished runs are frozen; what is written past their count is never read
