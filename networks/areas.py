@@ -24,6 +24,9 @@ holes under :data:`MIN_HOLE_M2` (wedges between lane pieces) are filled.
 Lane polygons are made once for the whole network with vectorised ``shapely.buffer``;
 areas shared by many curves (one junction's paved area serves all its turns) are unioned
 once, with ``shapely.union_all`` over rows of an array, and the curves share the object.
+A paved area is the union of its plain lanes, edges and junction polygon first, then of
+that with only the internal lanes it does not already cover (the same area, far fewer
+crossings to node). The vectorised shapely calls are split over :data:`WORKERS` threads.
 ``own_lanes`` is a buffer of the centre line, so at lane joins it may stick out of the
 lane polygons of ``roadway`` by slivers of a few square centimetres.
 """
@@ -40,7 +43,7 @@ import numpy as np
 import shapely
 
 from networks.paths import junction_of_internal, via_lanes
-from networks.reader import Network
+from networks.reader import Network, gc_paused
 
 #: The polygons ``roadway`` and ``paved`` are made of are grown by this much (metres), so
 #: that they overlap where they would touch: a union of touching polygons can keep hairline
@@ -175,8 +178,8 @@ def _union_all_rows(table: np.ndarray) -> np.ndarray:
 
 
 #: Threads for the vectorised shapely calls (they release the GIL): one per core, at most 4.
-WORKERS = max(1, min(4, len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity")
-                     else (os.cpu_count() or 1)))
+WORKERS = int(os.environ.get("CLEARANCE_THREADS", 0)) or max(1, min(4, len(
+    os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (os.cpu_count() or 1)))
 
 #: Arrays shorter than this are not split between threads.
 MIN_SPLIT = 256
@@ -241,10 +244,19 @@ def attach_areas(net: Network, curves: Sequence[Curve]) -> None:
     """
     if not curves:
         return
+    with gc_paused():
+        _attach(net, curves)
+
+
+def _attach(net: Network, curves: Sequence[Curve]) -> None:
     own = own_lane_polygons(curves)
     b = _AreaBuilder(net)
-    road_of = [b.group("road", b.roadway_members(c)) for c in curves]
-    paved_of = [b.group("paved", b.paved_members(c)) for c in curves]
+    road_of = []
+    paved_of = []
+    for c in curves:
+        plain = tuple(_plain_edges_of(net, c.lanes))
+        road_of.append(b.roadway_group(c, plain))
+        paved_of.append(b.paved_group(c, plain))
     roadway, paved = b.build()
     for curve, o, r_i, p_i in zip(curves, own, road_of, paved_of, strict=True):
         curve.own_lanes, curve.roadway, curve.paved = o, roadway[r_i], paved[p_i]
@@ -262,6 +274,9 @@ class _AreaBuilder:
         self.internal = _internal_lanes_by_junction(net)
         self.movement_at: dict[tuple[str, str], str] = {}
         self.junction_members: dict[str, frozenset[str]] = {}
+        self.road_pieces: dict[tuple[str, ...], tuple[list[str], frozenset[str]]] = {}
+        self.paved_near: dict[tuple[str, ...], frozenset[str]] = {}
+        self.group_of: dict[str, dict[tuple, int]] = {"road": {}, "paved": {}}
 
     def _piece(self, key: str, lanes: Sequence[str]) -> str | None:
         if key not in self.pieces:
@@ -292,35 +307,63 @@ class _AreaBuilder:
     def _road(self, lane_id: str) -> bool:
         return self.net.lanes[lane_id].allows_road_vehicles()
 
-    def roadway_members(self, curve: Curve) -> frozenset[str]:
-        plain = _plain_edges_of(self.net, curve.lanes)
-        keys = [self.edge_piece(e, True) for e in plain]
-        keys += [self.movement_piece(a, b) for a, b in zip(plain, plain[1:], strict=False)]
-        covered = {k for key in keys if key for k in self.pieces[key]}
-        extra = [
-            "L:" + k for k in curve.lanes if self.cat.ref("L:" + k) not in covered
-        ]  # a lane of the curve in no piece (e.g. a ring passage without a connection)
-        return frozenset([k for k in keys if k] + extra)
+    def roadway_group(self, curve: Curve, plain: tuple[str, ...]) -> int:
+        """The roadway group of a curve running on the plain edges ``plain``."""
+        hit = self.road_pieces.get(plain)
+        if hit is None:
+            keys = [self.edge_piece(e, True) for e in plain]
+            keys += [self.movement_piece(a, b) for a, b in zip(plain, plain[1:], strict=False)]
+            keys = [k for k in keys if k]
+            covered = frozenset(self.cat.keys[i][2:] for k in keys for i in self.pieces[k])
+            hit = self.road_pieces[plain] = (keys, covered)
+        keys, covered = hit
+        # a lane of the curve in no piece (e.g. a ring passage without a connection)
+        extra = tuple(k for k in curve.lanes if k not in covered)
+        return self._group("road", (plain, extra), lambda: [*keys, *("L:" + k for k in extra)])
 
-    def paved_members(self, curve: Curve) -> frozenset[str]:
-        junctions = _junctions_of(self.net, curve)
+    def paved_group(self, curve: Curve, plain: tuple[str, ...]) -> int:
+        """The paved group of a curve: its junctions' areas and what they miss of it."""
+        junctions = tuple(_junctions_of(self.net, curve))
+        hit = self.paved_near.get(junctions)
+        if hit is None:
+            near_edges: set[str] = set()
+            for j in junctions:
+                near_edges.update(self.incident.get(j, []))
+            hit = self.paved_near[junctions] = frozenset(near_edges)
+        near = hit
+        extra = tuple(
+            k for k in curve.lanes
+            if not k.startswith(":") and self.net.lanes[k].edge not in near
+            and self.net.lanes[k].edge not in plain
+        )
+        return self._group(
+            "paved", (junctions, plain, extra), lambda: self._paved_members(junctions, plain, extra)
+        )
+
+    def _paved_members(
+        self, junctions: tuple[str, ...], plain: tuple[str, ...], extra: tuple[str, ...]
+    ) -> list[str]:
         members: set[str] = set()
-        near = set()
+        near = self.paved_near[junctions]
         for j in junctions:
             members |= self.junction(j)
-            near.update(self.incident.get(j, []))
-        plain = _plain_edges_of(self.net, curve.lanes)
         for e in plain:
             if e not in near:
                 members.add(self.edge_piece(e, False) or "")
         for a, b in zip(plain, plain[1:], strict=False):
             if self.net.edges[a].to_junction not in junctions:
                 members.add(self.movement_piece(a, b) or "")
-        for k in curve.lanes:  # lanes of the curve nothing above covers
-            if not k.startswith(":") and self.net.lanes[k].edge not in near | set(plain):
-                members.add("L:" + k)
+        members.update("L:" + k for k in extra)  # lanes of the curve nothing above covers
         members.discard("")
-        return frozenset(members)
+        return sorted(members)
+
+    def _group(self, kind: str, key: tuple, members: Callable[[], list[str]]) -> int:
+        """The group of a curve by ``key``; a new key's members are deduplicated by value."""
+        ids = self.group_of[kind]
+        hit = ids.get(key)
+        if hit is None:
+            hit = ids[key] = self.group(kind, frozenset(members()))
+        return hit
 
     def junction(self, j: str) -> frozenset[str]:
         hit = self.junction_members.get(j)

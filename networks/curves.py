@@ -44,7 +44,7 @@ from networks.geometry import (
 )
 from networks.paths import PathPlan, junction_of_internal, plan_path, realise, via_lanes
 from networks.profiles import profiles
-from networks.reader import Network
+from networks.reader import Network, gc_paused
 from vehicles.errors import InputError
 
 log = logging.getLogger(__name__)
@@ -476,6 +476,11 @@ def extract_curves(
     if bad:
         raise InputError(f"unknown curve kind(s) {', '.join(bad)}; choose from {', '.join(KINDS)}")
     opts = options or CurveOptions()
+    with gc_paused():  # hundreds of thousands of objects that live on (see gc_paused)
+        return _extract(net, wanted, opts, areas)
+
+
+def _extract(net: Network, wanted: list[str], opts: CurveOptions, areas: bool) -> list[Curve]:
     curves: list[Curve] = []
     if "turn" in wanted:
         curves.extend(measure(net, list(find_turns(net, opts)), opts))
