@@ -177,7 +177,8 @@ def _union_all_rows(table: np.ndarray) -> np.ndarray:
     return shapely.union_all(table, axis=1)
 
 
-#: Threads for the vectorised shapely calls (they release the GIL): one per core, at most 4.
+#: Threads for the vectorised shapely calls (they release the GIL): one per core, at most 4
+#: (the environment variable ``CLEARANCE_THREADS`` overrides it).
 WORKERS = int(os.environ.get("CLEARANCE_THREADS", 0)) or max(1, min(4, len(
     os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (os.cpu_count() or 1)))
 
