@@ -10,7 +10,7 @@ import pytest
 
 from networks import driver
 from networks.curves import extract_curves
-from networks.driver import DriveOptions, drive, select_curves
+from networks.driver import DriveOptions, drive
 from networks.reader import read_network
 from networks.samples import build as samples
 from vehicles.errors import InputError
@@ -272,16 +272,6 @@ def test_sumo_failing_every_step_never_hangs(nets, table):
     assert "always broken" in runs[0].error
     assert "not driven" in runs[4].error
     assert all(r.result is not None for r in runs)  # the model still ran
-
-
-def test_unknown_curve_lists_close_matches(nets):
-    _, curves = nets["intersection"]
-    with pytest.raises(InputError, match=r"unknown curve 'turn:X:XN_in_0->XW_out_1'; "
-                                         r"did you mean 'turn:X:XN_in_0->XW_out_0'"):
-        select_curves(curves, ["turn:X:XN_in_0->XW_out_1"])
-    picked = select_curves(curves, ["turn:T:TW_in_0->TS_out_0", "turn:X:XN_in_0->XW_out_0"])
-    assert [c.curve_id for c in picked] == ["turn:T:TW_in_0->TS_out_0",
-                                            "turn:X:XN_in_0->XW_out_0"]
 
 
 def test_vtype_parameters_carry_the_trailer(table):

@@ -1,0 +1,213 @@
+"""What a drive is asked and what it returns: options, time statistics, results, selection.
+
+:func:`networks.driver.drive` takes a :class:`DriveOptions` and returns one
+:class:`DrivenRun` per vehicle x curve pair; :class:`DriveStats` says where its time went.
+:func:`select_curves` picks curves by id (with close matches for a typo) and
+:func:`curve_areas` turns a curve's areas into the :class:`~analysis.clearance.Areas` its
+verdict is measured against.
+"""
+
+from __future__ import annotations
+
+import difflib
+import math
+import os
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+
+from analysis.clearance import Areas, RunResult
+from analysis.tracking import TrackingRun
+from networks.curves import Curve
+from vehicles.errors import InputError
+from vehicles.vehicle import Vehicle
+
+DEFAULT_SUMO_STEP_S = 0.2
+"""SUMO's default step length (s): every second sample of the model's default 0.1 s."""
+
+@dataclass(frozen=True)
+class DriveOptions:
+    """How runs are driven through SUMO.
+
+    Attributes
+    ----------
+    batch_size
+        Runs (SUMO vehicles) in flight at once.
+    match_threshold_m
+        ``matchThreshold`` of ``moveToXY``: how far SUMO looks for a lane (small is fast).
+    deviation_tolerance_m
+        A run whose SUMO position leaves the model's by more than this is logged.
+    fcd_output
+        Write SUMO's FCD output here (``--fcd-output``), or ``None``.
+    offset_m
+        Clearance offset the envelopes are grown by before the verdict.
+    use_sumo
+        ``False`` computes the same runs without SUMO (model, envelopes, verdicts only).
+    sumo_step_s
+        SUMO's step length (s): a whole multiple of the model's time step, or ``None`` for
+        the model's own step. Every SUMO step places each vehicle at the model's sample of
+        that instant (and at the run's last sample); the model itself always runs at its own
+        step, so the swept paths and verdicts do not depend on this.
+    max_restarts
+        Restarts of SUMO after a failed simulation step, before the queued runs fail too.
+    """
+
+    batch_size: int = 100
+    match_threshold_m: float = 1.0
+    deviation_tolerance_m: float = 0.01
+    fcd_output: str | os.PathLike[str] | None = None
+    offset_m: float = 0.0
+    use_sumo: bool = True
+    max_restarts: int = 2
+    sumo_step_s: float | None = DEFAULT_SUMO_STEP_S
+
+    def __post_init__(self) -> None:
+        if not (isinstance(self.batch_size, int) and self.batch_size >= 1):
+            raise InputError(f"drive options: batch_size must be >= 1, got {self.batch_size!r}")
+        for name in ("match_threshold_m", "deviation_tolerance_m"):
+            value = getattr(self, name)
+            if not (math.isfinite(value) and value > 0):
+                raise InputError(f"drive options: {name} must be > 0, got {value!r}")
+        if not (math.isfinite(self.offset_m) and self.offset_m >= 0):
+            raise InputError(f"clearance offset must be a number >= 0 m, got {self.offset_m!r}")
+        if self.sumo_step_s is not None and not (
+                isinstance(self.sumo_step_s, int | float) and math.isfinite(self.sumo_step_s)
+                and self.sumo_step_s > 0):
+            raise InputError(f"drive options: the SUMO step must be a positive number of "
+                             f"seconds, got {self.sumo_step_s!r}")
+
+    def samples_per_step(self, dt_s: float) -> int:
+        """Model samples per SUMO step, for a model time step ``dt_s``.
+
+        Raises
+        ------
+        InputError
+            The SUMO step is not a whole multiple of ``dt_s``.
+
+        Examples
+        --------
+        >>> DriveOptions(sumo_step_s=0.2).samples_per_step(0.1)
+        2
+        >>> DriveOptions(sumo_step_s=None).samples_per_step(0.1)
+        1
+        >>> DriveOptions(sumo_step_s=0.25).samples_per_step(0.1)
+        Traceback (most recent call last):
+        ...
+        vehicles.errors.InputError: the SUMO step (0.25 s) must be a whole multiple of ...
+        """
+        if self.sumo_step_s is None:
+            return 1
+        k = round(self.sumo_step_s / dt_s)
+        if k < 1 or abs(k * dt_s - self.sumo_step_s) > 1e-9 * max(1.0, self.sumo_step_s):
+            raise InputError(f"the SUMO step ({self.sumo_step_s:g} s) must be a whole multiple "
+                             f"of the model's time step ({dt_s:g} s)")
+        return k
+
+
+@dataclass
+class DriveStats:
+    """Where :func:`drive`'s time went (wall clock, seconds) and how much SUMO did.
+
+    Attributes
+    ----------
+    model_s
+        The kinematic model (:func:`analysis.tracking.simulate_batch`).
+    sumo_s
+        The SUMO session (start, vTypes, placements, steps, read-back, close), without the
+        model computed inside it.
+    evaluate_s
+        Envelopes and verdicts.
+    vehicle_steps
+        SUMO vehicles placed and read back, summed over the steps.
+    sumo_steps
+        Simulation steps.
+    model_cpu_s, sumo_cpu_s
+        The same by the process's CPU time (steadier on a shared machine).
+    """
+
+    model_s: float = 0.0
+    model_cpu_s: float = 0.0
+    sumo_s: float = 0.0
+    sumo_cpu_s: float = 0.0
+    evaluate_s: float = 0.0
+    vehicle_steps: int = 0
+    sumo_steps: int = 0
+
+
+@dataclass
+class DrivenRun:
+    """One vehicle x curve run: the model's result and how SUMO replayed it.
+
+    Attributes
+    ----------
+    vehicle, curve
+        What was driven where.
+    result
+        Model run, swept path and clearance (always computed).
+    sumo_steps
+        SUMO steps the vehicle was placed in (0 without SUMO).
+    sumo_max_deviation_m
+        Largest distance between SUMO's reported front-bumper centre and the model's
+        (``nan`` when the run was not driven through SUMO).
+    error
+        Why SUMO failed this run; empty when it did not.
+    """
+
+    vehicle: Vehicle
+    curve: Curve
+    result: RunResult | None = None
+    sumo_steps: int = 0
+    sumo_max_deviation_m: float = math.nan
+    error: str = ""
+    run: TrackingRun | None = field(default=None, repr=False)
+
+    @property
+    def verdict(self) -> str:
+        """The clearance verdict, or ``error`` when SUMO failed the run."""
+        if self.error or self.result is None:
+            return "error"
+        return self.result.verdict
+
+    @property
+    def reason(self) -> str:
+        """Why the verdict is what it is."""
+        if self.error:
+            return self.error
+        return self.result.clearance.reason if self.result is not None else ""
+
+
+# -------------------------------------------------------------------------- selection
+
+
+def select_curves(curves: Sequence[Curve], ids: Sequence[str] | None) -> list[Curve]:
+    """The curves named ``ids`` (all when ``None`` or empty), in the order asked.
+
+    Raises
+    ------
+    InputError
+        An unknown id; the message lists close matches.
+    """
+    if not ids:
+        return list(curves)
+    by_id = {c.curve_id: c for c in curves}
+    out, problems = [], []
+    for cid in ids:
+        if cid in by_id:
+            out.append(by_id[cid])
+            continue
+        close = difflib.get_close_matches(cid, list(by_id), n=3, cutoff=0.5)
+        hint = f"; did you mean {', '.join(repr(c) for c in close)}?" if close else ""
+        problems.append(f"unknown curve {cid!r}{hint} ({len(by_id)} curves in the network, "
+                        "see `clearance curves`)")
+    if problems:
+        raise InputError("; ".join(problems))
+    return out
+
+
+def curve_areas(curve: Curve) -> Areas:
+    """The :class:`~analysis.clearance.Areas` of a curve (its own lanes, paved, roadway)."""
+    if curve.own_lanes is None or curve.paved is None:
+        raise InputError(f"curve {curve.curve_id}: no areas (extract curves with areas=True)")
+    try:
+        return Areas(curve.own_lanes, curve.paved, curve.roadway)
+    except InputError as exc:
+        raise InputError(f"curve {curve.curve_id}: {exc}") from None
