@@ -253,10 +253,12 @@ def sweep(
     True
     """
     # vertices of both parts: the body's corners and the two ends of its axle line
-    verts = body_corners(x_m, y_m, theta_rad, ahead_m, behind_m, width_m)
-    axle = body_corners(x_m, y_m, theta_rad, axle_m, -axle_m, width_m)[:, 1:3]
-    pts = np.concatenate([verts, axle], axis=1)
-    keys = key_samples(pts[..., 0], pts[..., 1], tolerance_m)
+    c, s = np.cos(theta_rad), np.sin(theta_rad)
+    along = np.array([-behind_m, ahead_m, ahead_m, -behind_m, axle_m, axle_m])
+    across = np.array([-0.5, -0.5, 0.5, 0.5, -0.5, 0.5]) * width_m
+    px = x_m[:, None] + along * c[:, None] - across * s[:, None]
+    py = y_m[:, None] + along * s[:, None] + across * c[:, None]
+    keys = key_samples(px, py, tolerance_m)
     xs, ys, ths = x_m[keys], y_m[keys], theta_rad[keys]
     if len(keys) == 1:
         return shapely.polygons(body_corners(xs, ys, ths, ahead_m, behind_m, width_m)[0])

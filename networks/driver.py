@@ -332,9 +332,7 @@ class _SumoSession:
                     active[i] = plan
             if not active:
                 return
-            for i, plan in list(active.items()):
-                if not self._place(plan):
-                    del active[i]
+            self._place_all(active)
             try:
                 self.stats.sumo_steps += 1
                 t.simulationStep()
@@ -342,12 +340,7 @@ class _SumoSession:
                 self._step_failed(active, exc)
                 active.clear()
                 continue
-            for i, plan in list(active.items()):
-                if not self._check(plan):
-                    del active[i]
-                elif plan.k >= plan.n:
-                    self._finish(plan)
-                    del active[i]
+            self._check_all(active)
 
     def _step_failed(self, active: dict[int, _Plan], exc: Exception) -> None:
         t = self.traci
@@ -479,45 +472,56 @@ class _SumoSession:
             self.free_routes.add(first)
         t.vehicle.add(vid, first, typeID=free, departPos="0")
 
-    def _place(self, plan: _Plan) -> bool:
-        k = plan.k
+    def _place_all(self, active: dict[int, _Plan]) -> None:
+        """Place every vehicle in flight at its current sample; drop the runs SUMO refuses."""
         thr = self.options.match_threshold_m
         move = self.move_to_xy
-        try:
-            for u in plan.units:
-                if k < u.start:
-                    continue
-                if not u.added:
-                    self._add_vehicle(u.vid, plan.route, u.vtype)
-                    u.added = True
-                # keepRoute=2: exactly here, also off the route and inside junctions
-                move(u.vid, u.edge[k], u.lane[k], u.x[k], u.y[k], u.angle[k], 2, thr)
-        except self.traci.TraCIException as exc:
-            sample = int(plan.samples[k])
-            t_s = float(self.out[plan.index].run.trajectory.t_s[sample])
-            self._fail(plan.index, plan.vid,
-                       f"SUMO could not place vehicle {plan.vid} at t = {t_s:.2f} s "
-                       f"(sample {sample}): {exc}", k, plan.max_dev, plan)
-            return False
-        return True
+        refused = self.traci.TraCIException
+        for i, plan in list(active.items()):
+            k = plan.k
+            try:
+                for u in plan.units:
+                    if k < u.start:
+                        continue
+                    if not u.added:
+                        self._add_vehicle(u.vid, plan.route, u.vtype)
+                        u.added = True
+                    # keepRoute=2: exactly here, also off the route and inside junctions
+                    move(u.vid, u.edge[k], u.lane[k], u.x[k], u.y[k], u.angle[k], 2, thr)
+            except refused as exc:
+                sample = int(plan.samples[k])
+                t_s = float(self.out[plan.index].run.trajectory.t_s[sample])
+                self._fail(plan.index, plan.vid,
+                           f"SUMO could not place vehicle {plan.vid} at t = {t_s:.2f} s "
+                           f"(sample {sample}): {exc}", k, plan.max_dev, plan)
+                del active[i]
 
-    def _check(self, plan: _Plan) -> bool:
+    def _check_all(self, active: dict[int, _Plan]) -> None:
+        """Read SUMO's positions back after a step; finish the runs that played their last."""
         get = self.get_position
-        k = plan.k
-        try:
-            for u in plan.units:
-                if u.added:
-                    self.stats.vehicle_steps += 1
-                    px, py = get(u.vid)
-                    dev = math.hypot(px - u.x[k], py - u.y[k])
-                    if dev > plan.max_dev:
-                        plan.max_dev = dev
-        except self.traci.TraCIException as exc:
-            self._fail(plan.index, plan.vid, f"SUMO lost vehicle {plan.vid} at sample "
-                       f"{int(plan.samples[k])}: {exc}", k, plan.max_dev, plan)
-            return False
-        plan.k = k + 1
-        return True
+        lost = self.traci.TraCIException
+        hypot = math.hypot
+        checked = 0
+        for i, plan in list(active.items()):
+            k = plan.k
+            try:
+                for u in plan.units:
+                    if u.added:
+                        checked += 1
+                        px, py = get(u.vid)
+                        dev = hypot(px - u.x[k], py - u.y[k])
+                        if dev > plan.max_dev:
+                            plan.max_dev = dev
+            except lost as exc:
+                self._fail(plan.index, plan.vid, f"SUMO lost vehicle {plan.vid} at sample "
+                           f"{int(plan.samples[k])}: {exc}", k, plan.max_dev, plan)
+                del active[i]
+                continue
+            plan.k = k + 1
+            if plan.k >= plan.n:
+                self._finish(plan)
+                del active[i]
+        self.stats.vehicle_steps += checked
 
     def _finish(self, plan: _Plan) -> None:
         d = self.out[plan.index]
