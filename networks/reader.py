@@ -22,6 +22,7 @@ from collections import defaultdict
 from collections.abc import Iterator
 from contextlib import contextmanager
 from dataclasses import dataclass, field
+from itertools import repeat
 from pathlib import Path
 
 import numpy as np
@@ -460,66 +461,88 @@ def parse_shape(text: str) -> np.ndarray:
 def parse_shapes(
     texts: list[str], names: list[str] | None = None, what: str = "shape"
 ) -> list[np.ndarray]:
-    """Parse many shape strings at once (fast path: one numpy call per dimensionality).
+    """Parse many shape strings at once (fast path: one numpy call per kind of shape).
 
-    Strings that are all ``x,y`` or all ``x,y,z`` with single spaces are parsed in bulk;
-    others (mixed, or irregular spacing) one by one with :func:`parse_shape`. Errors name
-    ``what`` and the string's entry in ``names``.
+    Strings that are all ``x,y`` or all ``x,y,z`` with single spaces are parsed in bulk,
+    grouped by dimensionality and number of points (each group becomes one (M, N, 3)
+    array whose rows are the shapes returned); others (mixed, or irregular spacing) one
+    by one with :func:`parse_shape`. Errors name ``what`` and the string's entry in
+    ``names``.
 
     Examples
     --------
     >>> [a.shape for a in parse_shapes(["0,0 1,1", "0,0,1 1,1,2 2,2", ""])]
     [(2, 3), (3, 3), (0, 3)]
     """
-    out: list[np.ndarray | None] = [None] * len(texts)
-    groups: dict[int, list[int]] = {2: [], 3: []}
-    counts = np.zeros(len(texts), dtype=np.int64)
-    for i, t in enumerate(texts):
-        if not t:
-            out[i] = _EMPTY
-            continue
-        n = t.count(" ") + 1
-        commas = t.count(",")
-        if commas == n and t[0] != " " and t[-1] != " ":
-            groups[2].append(i)
-        elif commas == 2 * n and t[0] != " " and t[-1] != " ":
-            groups[3].append(i)
-        else:
-            out[i] = _parse_one(t, names, what, i)
-            continue
-        counts[i] = n
-    for dim, all_idx in groups.items():
-        for k in range(0, len(all_idx), _BATCH):
-            idx = all_idx[k : k + _BATCH]
-            joined = " ".join([texts[i] for i in idx]).replace(",", " ")
-            flat = _bulk_floats(joined)
-            n_pts = counts[idx]
-            if flat is None or flat.size != dim * int(n_pts.sum()):
-                for i in idx:  # fall back to find the bad one
-                    out[i] = _parse_one(texts[i], names, what, i)
+    n = len(texts)
+    length = np.fromiter(map(len, texts), np.int64, n)
+    trimmed = np.fromiter(map(len, map(str.strip, texts, repeat(" "))), np.int64, n)
+    counts = np.fromiter(map(str.count, texts, repeat(" ")), np.int64, n) + 1
+    commas = np.fromiter(map(str.count, texts, repeat(",")), np.int64, n)
+    regular = (length > 0) & (trimmed == length)
+    dims = np.where(commas == counts, 2, np.where(commas == 2 * counts, 3, 0)) * regular
+    pool: list[np.ndarray] = [_EMPTY]  # out[i] is pool[where[i]]
+    where = np.zeros(n, dtype=np.int64)
+
+    def add(indices: list[int], arrays: list[np.ndarray]) -> None:
+        where[indices] = np.arange(len(pool), len(pool) + len(arrays))
+        pool.extend(arrays)
+
+    odd = np.flatnonzero((length > 0) & (dims == 0)).tolist()
+    add(odd, [_parse_one(texts[i], names, what, i) for i in odd])
+    failed: dict[int, list[int]] = {2: [], 3: []}
+    key = dims * (counts.max(initial=0) + 1) + counts
+    order = np.argsort(key, kind="stable")[np.count_nonzero(dims == 0) :]
+    cuts = np.flatnonzero(np.diff(key[order])) + 1
+    for group in np.split(order, cuts) if len(order) else []:
+        dim, count = int(dims[group[0]]), int(counts[group[0]])
+        for k in range(0, len(group), _BATCH):
+            idx = group[k : k + _BATCH].tolist()
+            flat = _bulk_floats(" ".join([texts[i] for i in idx]), dim, count * len(idx))
+            if flat is None:
+                failed[dim].extend(idx)  # parsed one by one below, to find the bad one
                 continue
-            pts = flat.reshape(-1, dim)
+            block = flat.reshape(len(idx), count, dim)
             if dim == 2:
-                pts = np.column_stack((pts, np.zeros(len(pts))))
-            ends = np.cumsum(n_pts).tolist()
-            starts = [0, *ends[:-1]]
-            for i, a, b in zip(idx, starts, ends, strict=True):
-                out[i] = pts[a:b]
-    return out  # type: ignore[return-value]
+                block = np.concatenate((block, np.zeros((len(idx), count, 1))), axis=2)
+            add(idx, list(block))
+    for dim in (2, 3):
+        bad = sorted(failed[dim])
+        add(bad, [_parse_one(texts[i], names, what, i) for i in bad])
+    return list(map(pool.__getitem__, where.tolist()))
 
 
 _BATCH = 20000
 
 
-def _bulk_floats(text: str) -> np.ndarray | None:
-    """Whitespace-separated numbers; None when any is not a finite number."""
+def _bulk_floats(joined: str, dim: int, n_points: int) -> np.ndarray | None:
+    """The coordinates of ``n_points`` points ``x,y`` (``dim`` 2) or ``x,y,z`` separated by
+    single spaces, as parsed one by one would give them; None when ``joined`` is not
+    exactly that (a separator out of place, an empty or bad number, one not finite).
+
+    Examples
+    --------
+    >>> _bulk_floats("0,1 2,3.5", 2, 2)
+    array([0. , 1. , 2. , 3.5])
+    >>> _bulk_floats("0,1 2,3,4", 2, 2) is None
+    True
+    """
+    expected = ((", " if dim == 2 else ",, ") * n_points)[:-1].encode()
+    if joined.encode("ascii", "replace").translate(None, _NUMBER_CHARS) != expected:
+        return None
+    text = joined.replace(",", " ")
+    if "  " in text or text[:1] == " " or text[-1:] == " ":
+        return None  # an empty number (np.fromstring would skip it)
     try:
         with warnings.catch_warnings():
-            warnings.simplefilter("ignore", DeprecationWarning)
+            warnings.simplefilter("error", DeprecationWarning)  # text left unread
             arr = np.fromstring(text, dtype=np.float64, sep=" ")
-    except ValueError:
+    except (ValueError, DeprecationWarning):
         return None
-    return arr if np.isfinite(arr).all() else None
+    return arr if arr.size == dim * n_points and np.isfinite(arr).all() else None
+
+
+_NUMBER_CHARS = b"0123456789.+-eE"
 
 
 def _parse_one(text: str, names: list[str] | None, what: str, i: int) -> np.ndarray:

@@ -18,7 +18,13 @@ import networks.profiles
 import networks.reader
 import networks.safe_xml
 import networks.samples.sources
-from networks.reader import DEFAULT_LANE_WIDTH_M, parse_shapes, read_network, resolve_allowed
+from networks.reader import (
+    DEFAULT_LANE_WIDTH_M,
+    parse_shape,
+    parse_shapes,
+    read_network,
+    resolve_allowed,
+)
 from vehicles.errors import InputError
 
 NODES = """
@@ -94,6 +100,18 @@ def test_shapes_mix_2d_and_3d():
     assert out[1][:, 2].tolist() == [1, 2]
     assert out[2].tolist() == [[0, 0, 0], [5, 5, 3], [6, 6, 0]]
     assert out[3].shape == (0, 3)
+
+
+def test_bulk_shapes_are_parsed_like_one_by_one():
+    # separators out of place or an empty number are not read as some other shape
+    for text in ("1.5 0,0,3", "1+5,2 3,e", "1,2 ,3", "0,0\t1,1"):
+        try:
+            expected = parse_shape(text)
+        except ValueError:
+            with pytest.raises(InputError, match="bad shape"):
+                parse_shapes([text, "0,0 1,1"], ["x_0", "y_0"], "lane")
+        else:
+            np.testing.assert_array_equal(parse_shapes([text])[0], expected)
 
 
 def test_bad_shape_names_the_lane():
