@@ -49,6 +49,7 @@ from analysis.envelope import (
     SweptPath,
     swept_path,
 )
+from analysis.kernels import segments_distance
 from analysis.polyline import Path
 from analysis.tracking import TrackingRun
 from vehicles.errors import InputError
@@ -235,7 +236,7 @@ def signed_margin_m(
     segs = np.concatenate(edges) if edges else np.empty((0, 2, 2))
 
     def distance(xy: np.ndarray) -> np.ndarray:
-        d = _distance_to_segments(xy, segs)
+        d = segments_distance(xy, segs)
         far = ~(d <= NEAR_M)
         if far.any():
             d[far] = shapely.distance(shapely.points(xy[far]), area)
@@ -245,36 +246,6 @@ def signed_margin_m(
     if len(extra):
         deepest = max(deepest, float(np.max(distance(extra))))
     return -deepest
-
-
-def _distance_to_segments(xy: np.ndarray, segs: np.ndarray, chunk: int = 250_000) -> np.ndarray:
-    """Distance from each point ``(k, 2)`` to the nearest of the segments ``(m, 2, 2)``.
-
-    ``inf`` for every point when there is no segment.
-
-    Examples
-    --------
-    >>> segs = np.array([[[0.0, 0.0], [10.0, 0.0]], [[10.0, 0.0], [10.0, 5.0]]])
-    >>> _distance_to_segments(np.array([[5.0, 2.0], [13.0, 9.0], [5.0, 0.0]]), segs).tolist()
-    [2.0, 5.0, 0.0]
-    >>> _distance_to_segments(np.array([[1.0, 1.0]]), np.empty((0, 2, 2))).tolist()
-    [inf]
-    """
-    if not len(segs):
-        return np.full(len(xy), np.inf)
-    a = segs[:, 0]
-    d = segs[:, 1] - a
-    dd = np.maximum(np.einsum("ij,ij->i", d, d), 1e-300)
-    out = np.empty(len(xy))
-    step = max(1, chunk // len(segs))
-    for k in range(0, len(xy), step):
-        rx = xy[k:k + step, None, 0] - a[None, :, 0]
-        ry = xy[k:k + step, None, 1] - a[None, :, 1]
-        t = np.minimum(np.maximum((rx * d[:, 0] + ry * d[:, 1]) / dd, 0.0), 1.0)
-        rx -= t * d[:, 0]
-        ry -= t * d[:, 1]
-        out[k:k + step] = np.sqrt(np.min(rx * rx + ry * ry, axis=1))
-    return out
 
 
 def farthest_on_lines(

@@ -58,6 +58,7 @@ import shapely
 from numpy.typing import NDArray
 from shapely.geometry.base import BaseGeometry
 
+from analysis.kernels import greedy_keys, normal_widths, vertex_path_bounds, windowed_distance
 from analysis.tracking import TrackingRun, Trajectory
 from vehicles.vehicle import Vehicle
 
@@ -182,39 +183,11 @@ def key_samples(
     n = px_m.shape[0]
     if n <= 2:
         return np.arange(n)
-    dx, dy = np.diff(px_m, axis=0), np.diff(py_m, axis=0)
-    chord = np.hypot(dx, dy)
-    heading = np.arctan2(dy, dx)
-    moving = chord > 1e-12
-    bend = np.abs((np.diff(heading, axis=0) + np.pi) % (2 * np.pi) - np.pi)
-    bend = np.where(moving[1:] & moving[:-1], bend, 0.0)
     # length[k]: the longest vertex steps summed up to sample k; turn[k]: the largest
-    # vertex turnings up to and including the bend at sample k (a little conservative)
-    length = np.concatenate([[0.0], np.cumsum(chord.max(axis=1))]).tolist()
-    turn = np.concatenate([[0.0, 0.0], np.cumsum(bend.max(axis=1))]).tolist()
-    budget = 4.0 * tolerance_m
-    keys = [0]
-    i, last = 0, n - 1
-    while i < last:
-        a, b = length[i], turn[i]
-        if (length[last] - a) * (turn[last] - b) <= budget:
-            keys.append(last)
-            break
-        # gallop ahead, then bisect: j passes (or is the single step always accepted), hi fails
-        j, step = i + 1, 1
-        while j + step < last and (length[j + step] - a) * (turn[j + step] - b) <= budget:
-            j += step
-            step *= 2
-        hi = min(j + step, last)
-        while hi - j > 1:
-            mid = (j + hi) // 2
-            if (length[mid] - a) * (turn[mid] - b) <= budget:
-                j = mid
-            else:
-                hi = mid
-        keys.append(j)
-        i = j
-    return np.asarray(keys, dtype=np.intp)
+    # vertex turnings up to and including the bend at sample k - 1 (a little conservative)
+    length, turn = vertex_path_bounds(np.ascontiguousarray(px_m, dtype=float),
+                                      np.ascontiguousarray(py_m, dtype=float))
+    return greedy_keys(length, turn, 4.0 * tolerance_m).astype(np.intp)
 
 
 def sweep(
@@ -274,28 +247,14 @@ def sweep(
     return shapely.union_all(intervals)
 
 
-def _nearest_on_segments(
-    px: FloatArray, py: FloatArray, seg: NDArray[np.intp], qx: FloatArray, qy: FloatArray
-) -> tuple[FloatArray, NDArray[np.intp]]:
-    """Squared distance from q_i to segments ``seg[i, :]`` of a polyline; best column."""
-    ax, ay = px[seg], py[seg]
-    dx, dy = px[seg + 1] - ax, py[seg + 1] - ay
-    rx, ry = qx[:, None] - ax, qy[:, None] - ay
-    dd = dx * dx + dy * dy
-    dd_safe = np.where(dd > 0, dd, 1.0)
-    t = np.minimum(np.maximum((rx * dx + ry * dy) / dd_safe, 0.0), 1.0)
-    d2 = (rx - t * dx) ** 2 + (ry - t * dy) ** 2
-    best = np.argmin(d2, axis=1)
-    return d2[np.arange(len(qx)), best], best
-
-
 def _offtracking(
     fx: FloatArray, fy: FloatArray, qx: FloatArray, qy: FloatArray, theta0: float
 ) -> FloatArray:
     """Distance from each point q_i to the front path up to sample i, looking back locally.
 
-    Coarse-to-fine: the nearest chord of a decimated front path (every ``c``-th point) is
-    found in the look-back window, then the ``3 c`` fine segments around it are searched.
+    The front path is extended straight back from its start; the window of sample ``i`` is
+    the path's segments from ``2 |f_i - q_i| + 1`` metres of arc behind its point ``i`` up
+    to that point, every one of them searched (:func:`analysis.kernels.windowed_distance`).
     """
     n = len(fx)
     gap = np.hypot(fx - qx, fy - qy)
@@ -307,24 +266,7 @@ def _offtracking(
     idx = np.arange(n) + 1  # sample i is point idx[i] of the extended path
     lo = np.searchsorted(arc, arc[idx] - (2.0 * gap + 1.0), side="right") - 1
     lo = np.minimum(np.maximum(lo, 0), idx - 1)
-    width = int((idx - lo).max())
-    c = max(1, round(math.sqrt(width / 3.0)))  # balances the coarse and the fine pass
-    # coarse pass: chords between every c-th point, clipped to the current sample
-    n_coarse = math.ceil(width / c) + 1
-    start = (lo // c) * c
-    cpts = np.minimum(start[:, None] + c * np.arange(n_coarse + 1)[None, :], idx[:, None])
-    ax, ay = px[cpts[:, :-1]], py[cpts[:, :-1]]
-    dx, dy = px[cpts[:, 1:]] - ax, py[cpts[:, 1:]] - ay
-    rx, ry = qx[:, None] - ax, qy[:, None] - ay
-    dd = dx * dx + dy * dy
-    t = np.minimum(np.maximum((rx * dx + ry * dy) / np.where(dd > 0, dd, 1.0), 0.0), 1.0)
-    best = np.argmin((rx - t * dx) ** 2 + (ry - t * dy) ** 2, axis=1)
-    near = cpts[np.arange(n), best]
-    # fine pass around the nearest chord
-    seg = np.minimum(np.maximum(near[:, None] + np.arange(-c, 2 * c)[None, :], lo[:, None]),
-                     idx[:, None] - 1)
-    d2, _ = _nearest_on_segments(px, py, seg, qx, qy)
-    return np.sqrt(d2)
+    return windowed_distance(px, py, qx, qy, lo, idx)
 
 
 def wheel_tracks(vehicle: Vehicle, traj: Trajectory) -> dict[str, shapely.LineString]:
@@ -395,22 +337,9 @@ def swept_widths(
     stations = np.linspace(0.0, last, k)
     p = path.point_at(stations)
     h = path.heading_at(stations)
-    nx, ny = -np.sin(h), np.cos(h)
     a, d = _ring_segments(envelope)
-    wx = a[None, :, 0] - p[:, None, 0]
-    wy = a[None, :, 1] - p[:, None, 1]
-    denom = nx[:, None] * d[None, :, 1] - ny[:, None] * d[None, :, 0]
-    ok = np.abs(denom) > 1e-12
-    denom = np.where(ok, denom, 1.0)
-    t = (wx * d[None, :, 1] - wy * d[None, :, 0]) / denom
-    u = (wx * ny[:, None] - wy * nx[:, None]) / denom
-    ok &= (u >= 0.0) & (u < 1.0)
-    pos = ok & (t > 0)
-    neg = ok & (t <= 0)
-    t_pos = np.min(np.where(pos, t, np.inf), axis=1)
-    t_neg = np.max(np.where(neg, t, -np.inf), axis=1)
-    inside = (np.count_nonzero(pos, axis=1) % 2 == 1) & np.isfinite(t_pos) & np.isfinite(t_neg)
-    widths = np.where(inside, t_pos - t_neg, 0.0)
+    widths = normal_widths(p[:, 0], p[:, 1], -np.sin(h), np.cos(h), a[:, 0], a[:, 1], d[:, 0],
+                           d[:, 1])
     return np.stack([stations, widths], axis=1)
 
 

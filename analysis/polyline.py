@@ -22,6 +22,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from analysis.kernels import project_near
 from vehicles.errors import InputError
 
 FloatArray = NDArray[np.float64]
@@ -337,28 +338,11 @@ def project_window(
     >>> int(seg[0]), float(along[0]), float(lat[0])
     (1, 0.5, -0.2)
     """
-    rows = np.arange(len(px))[:, None]
-    last = (n_points - 2)[:, None]
-    cand = np.minimum(np.maximum(segment[:, None] + np.arange(-1, window + 1)[None, :], 0),
-                      last)  # np.clip, without its overhead on small arrays
-    a = path_xy[rows, cand]
-    d = path_xy[rows, cand + 1] - a
-    rx = px[:, None] - a[..., 0]
-    ry = py[:, None] - a[..., 1]
-    dd = d[..., 0] ** 2 + d[..., 1] ** 2
-    t = (rx * d[..., 0] + ry * d[..., 1]) / dd
-    lo = np.where(cand == 0, -np.inf, 0.0)
-    hi = np.where(cand == last, np.inf, 1.0)
-    t = np.minimum(np.maximum(t, lo), hi)
-    ex = rx - t * d[..., 0]
-    ey = ry - t * d[..., 1]
-    dist2 = ex * ex + ey * ey
-    best = np.argmin(dist2, axis=1)
-    r = np.arange(len(px))
-    seg_len = np.sqrt(dd[r, best])
-    cross = d[r, best, 0] * ry[r, best] - d[r, best, 1] * rx[r, best]
-    lateral = np.copysign(np.sqrt(dist2[r, best]), cross)
-    return cand[r, best], t[r, best] * seg_len, lateral
+    seg, along, lateral = project_near(np.asarray(px, dtype=float), np.asarray(py, dtype=float),
+                                       np.ascontiguousarray(path_xy, dtype=float),
+                                       np.asarray(n_points, dtype=np.int64),
+                                       np.asarray(segment, dtype=np.int64), int(window))
+    return seg.astype(np.intp), along, lateral
 
 
 def fit_circle(x: ArrayLike, y: ArrayLike) -> tuple[float, float, float]:

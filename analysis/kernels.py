@@ -1,0 +1,289 @@
+"""Compiled inner loops of the swept-path measures (numba).
+
+Each function is a plain loop over points and segments, compiled by numba on first use and
+cached beside this file, so the envelope of a run costs no per-element Python work. They
+are the hot path of :mod:`analysis.envelope` and :mod:`analysis.clearance`; the
+definitions (what is measured) live there, these only compute.
+
+All lengths are in metres; arrays are float64 unless said otherwise.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+
+@njit(cache=True)
+def _point_segment_d2(qx: float, qy: float, ax: float, ay: float, bx: float,
+                      by: float) -> float:  # pragma: no cover - compiled
+    dx, dy = bx - ax, by - ay
+    rx, ry = qx - ax, qy - ay
+    dd = dx * dx + dy * dy
+    t = 0.0
+    if dd > 0.0:
+        t = (rx * dx + ry * dy) / dd
+        if t < 0.0:
+            t = 0.0
+        elif t > 1.0:
+            t = 1.0
+    ex, ey = rx - t * dx, ry - t * dy
+    return ex * ex + ey * ey
+
+
+@njit(cache=True)
+def windowed_distance(px: np.ndarray, py: np.ndarray, qx: np.ndarray, qy: np.ndarray,
+                      lo: np.ndarray, hi: np.ndarray) -> np.ndarray:  # pragma: no cover
+    """Distance from each point ``q_i`` to the polyline's segments ``lo[i] .. hi[i] - 1``.
+
+    Segment ``j`` joins points ``j`` and ``j + 1`` of ``(px, py)``; ``inf`` where the
+    window is empty.
+
+    Examples
+    --------
+    A straight path along x; a point 2 m beside it, another beyond its last segment:
+
+    >>> px, py = np.arange(5.0), np.zeros(5)
+    >>> d = windowed_distance(px, py, np.array([1.5, 7.0]), np.array([2.0, 0.0]),
+    ...                       np.array([0, 0]), np.array([4, 4]))
+    >>> d.tolist()
+    [2.0, 3.0]
+
+    Only the segments in the window count (the window of the second point is empty):
+
+    >>> windowed_distance(px, py, np.array([0.0, 0.0]), np.array([0.0, 0.0]),
+    ...                   np.array([2, 1]), np.array([4, 1])).tolist()
+    [2.0, inf]
+    """
+    n = qx.shape[0]
+    out = np.empty(n)
+    for i in range(n):
+        best = np.inf
+        for j in range(lo[i], hi[i]):
+            d2 = _point_segment_d2(qx[i], qy[i], px[j], py[j], px[j + 1], py[j + 1])
+            if d2 < best:
+                best = d2
+        out[i] = math.sqrt(best)
+    return out
+
+
+@njit(cache=True)
+def segments_distance(xy: np.ndarray, segs: np.ndarray) -> np.ndarray:  # pragma: no cover
+    """Distance from each point ``(k, 2)`` to the nearest segment ``(m, 2, 2)`` (``inf``: none).
+
+    Examples
+    --------
+    >>> segs = np.array([[[0.0, 0.0], [10.0, 0.0]], [[10.0, 0.0], [10.0, 5.0]]])
+    >>> segments_distance(np.array([[5.0, 2.0], [13.0, 9.0], [5.0, 0.0]]), segs).tolist()
+    [2.0, 5.0, 0.0]
+    >>> segments_distance(np.array([[1.0, 1.0]]), np.empty((0, 2, 2))).tolist()
+    [inf]
+    """
+    k = xy.shape[0]
+    m = segs.shape[0]
+    out = np.empty(k)
+    for i in range(k):
+        best = np.inf
+        for j in range(m):
+            d2 = _point_segment_d2(xy[i, 0], xy[i, 1], segs[j, 0, 0], segs[j, 0, 1],
+                                   segs[j, 1, 0], segs[j, 1, 1])
+            if d2 < best:
+                best = d2
+        out[i] = math.sqrt(best)
+    return out
+
+
+@njit(cache=True)
+def normal_widths(px: np.ndarray, py: np.ndarray, nx: np.ndarray, ny: np.ndarray,
+                  ax: np.ndarray, ay: np.ndarray, dx: np.ndarray,
+                  dy: np.ndarray) -> np.ndarray:  # pragma: no cover - compiled
+    """Length of the piece of each normal line inside a polygon, through its own point.
+
+    The line through ``(px_i, py_i)`` along ``(nx_i, ny_i)`` is cut with every boundary
+    segment ``a_j .. a_j + d_j`` (half-open); the nearest crossings on either side bound the
+    piece containing the point, which is inside when the crossings on one side are odd in
+    number (0 when it is outside).
+
+    Examples
+    --------
+    The unit square's boundary, a vertical line through its middle, and one outside it:
+
+    >>> ax = np.array([0.0, 1.0, 1.0, 0.0]); ay = np.array([0.0, 0.0, 1.0, 1.0])
+    >>> dx = np.array([1.0, 0.0, -1.0, 0.0]); dy = np.array([0.0, 1.0, 0.0, -1.0])
+    >>> normal_widths(np.array([0.5, 3.0]), np.array([0.5, 0.5]), np.zeros(2), np.ones(2),
+    ...               ax, ay, dx, dy).tolist()
+    [1.0, 0.0]
+    """
+    k = px.shape[0]
+    m = ax.shape[0]
+    out = np.zeros(k)
+    for i in range(k):
+        t_pos = np.inf
+        t_neg = -np.inf
+        count = 0
+        for j in range(m):
+            denom = nx[i] * dy[j] - ny[i] * dx[j]
+            if abs(denom) <= 1e-12:
+                continue
+            wx, wy = ax[j] - px[i], ay[j] - py[i]
+            t = (wx * dy[j] - wy * dx[j]) / denom
+            u = (wx * ny[i] - wy * nx[i]) / denom
+            if u < 0.0 or u >= 1.0:
+                continue
+            if t > 0.0:
+                count += 1
+                if t < t_pos:
+                    t_pos = t
+            elif t > t_neg:
+                t_neg = t
+        if count % 2 == 1 and t_pos < np.inf and t_neg > -np.inf:
+            out[i] = t_pos - t_neg
+    return out
+
+
+@njit(cache=True)
+def vertex_path_bounds(px: np.ndarray,
+                       py: np.ndarray) -> tuple[np.ndarray, np.ndarray]:  # pragma: no cover
+    """Cumulative longest step and largest turning over the paths of ``m`` vertices.
+
+    ``px, py`` are ``(n, m)``. ``length[k]`` sums, over the steps up to sample ``k``, the
+    longest step any vertex makes; ``turn[k]`` sums, over the samples up to ``k - 1``, the
+    largest turning of any vertex's path there (a vertex standing still turns by 0).
+
+    Examples
+    --------
+    One vertex going 1 m east, then 1 m north (a quarter turn at sample 1):
+
+    >>> length, turn = vertex_path_bounds(np.array([[0.0], [1.0], [1.0]]),
+    ...                                   np.array([[0.0], [0.0], [1.0]]))
+    >>> length.tolist(), [round(float(t), 6) for t in turn]
+    ([0.0, 1.0, 2.0], [0.0, 0.0, 1.570796])
+    """
+    n, m = px.shape
+    length = np.zeros(n)
+    turn = np.zeros(n)
+    prev_h = np.zeros(m)
+    prev_moving = np.zeros(m, dtype=np.bool_)
+    for k in range(n - 1):
+        longest = 0.0
+        sharpest = 0.0
+        for v in range(m):
+            dx = px[k + 1, v] - px[k, v]
+            dy = py[k + 1, v] - py[k, v]
+            chord = math.hypot(dx, dy)
+            if chord > longest:
+                longest = chord
+            moving = chord > 1e-12
+            h = math.atan2(dy, dx)
+            if k > 0 and moving and prev_moving[v]:
+                bend = abs((h - prev_h[v] + math.pi) % (2.0 * math.pi) - math.pi)
+                if bend > sharpest:
+                    sharpest = bend
+            prev_h[v] = h
+            prev_moving[v] = moving
+        length[k + 1] = length[k] + longest
+        if k > 0:
+            turn[k + 1] = turn[k] + sharpest
+    return length, turn
+
+
+@njit(cache=True)
+def greedy_keys(length: np.ndarray, turn: np.ndarray,
+                budget: float) -> np.ndarray:  # pragma: no cover - compiled
+    """Greedy key samples: from each key, the farthest ``j`` with ``dL dT <= budget``.
+
+    ``length`` and ``turn`` are non-decreasing; ``dL dT`` is measured from the current key.
+    A single step is always accepted. The first and last samples are keys.
+
+    Examples
+    --------
+    >>> greedy_keys(np.arange(6.0), np.array([0.0, 0, 0, 1, 2, 2]), 1.0).tolist()
+    [0, 2, 3, 4, 5]
+    >>> greedy_keys(np.arange(3.0), np.zeros(3), 1.0).tolist()
+    [0, 2]
+    """
+    n = length.shape[0]
+    keys = np.empty(n, dtype=np.int64)
+    keys[0] = 0
+    count = 1
+    i = 0
+    last = n - 1
+    while i < last:
+        a, b = length[i], turn[i]
+        if (length[last] - a) * (turn[last] - b) <= budget:
+            keys[count] = last
+            count += 1
+            break
+        j, step = i + 1, 1
+        while j + step < last and (length[j + step] - a) * (turn[j + step] - b) <= budget:
+            j += step
+            step *= 2
+        hi = min(j + step, last)
+        while hi - j > 1:
+            mid = (j + hi) // 2
+            if (length[mid] - a) * (turn[mid] - b) <= budget:
+                j = mid
+            else:
+                hi = mid
+        keys[count] = j
+        count += 1
+        i = j
+    return keys[:count]
+
+
+@njit(cache=True)
+def project_near(px: np.ndarray, py: np.ndarray, path_xy: np.ndarray, n_points: np.ndarray,
+                 segment: np.ndarray, window: int
+                 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:  # pragma: no cover
+    """Project point ``i`` onto path ``i``, searching segments ``segment[i] - 1`` onward.
+
+    The body of :func:`analysis.polyline.project_window` (its docstring says what it
+    returns): the ``window + 2`` segments from one behind the previous match are searched,
+    the first and last segments extended beyond the path's ends.
+
+    Examples
+    --------
+    >>> xy = np.array([[[0.0, 0.0], [1.0, 0.0], [2.0, 0.0]]])
+    >>> seg, along, lat = project_near(np.array([1.5]), np.array([-0.2]), xy,
+    ...                                np.array([3]), np.array([0]), 2)
+    >>> int(seg[0]), float(along[0]), float(lat[0])
+    (1, 0.5, -0.2)
+    """
+    n = px.shape[0]
+    seg_out = np.empty(n, dtype=np.int64)
+    along = np.empty(n)
+    lateral = np.empty(n)
+    for i in range(n):
+        last = n_points[i] - 2
+        best_d2 = np.inf
+        best_c = 0
+        best_t = 0.0
+        best_len = 0.0
+        best_cross = 0.0
+        for w in range(-1, window + 1):
+            c = segment[i] + w
+            if c < 0:
+                c = 0
+            elif c > last:
+                c = last
+            ax, ay = path_xy[i, c, 0], path_xy[i, c, 1]
+            dx, dy = path_xy[i, c + 1, 0] - ax, path_xy[i, c + 1, 1] - ay
+            rx, ry = px[i] - ax, py[i] - ay
+            dd = dx * dx + dy * dy
+            t = (rx * dx + ry * dy) / dd if dd > 0.0 else 0.0
+            if t < 0.0 and c != 0:
+                t = 0.0
+            elif t > 1.0 and c != last:
+                t = 1.0
+            ex, ey = rx - t * dx, ry - t * dy
+            d2 = ex * ex + ey * ey
+            if d2 < best_d2:
+                best_d2, best_c, best_t = d2, c, t
+                best_len = math.sqrt(dd)
+                best_cross = dx * ry - dy * rx
+        seg_out[i] = best_c
+        along[i] = best_t * best_len
+        lateral[i] = math.copysign(math.sqrt(best_d2), best_cross)
+    return seg_out, along, lateral
