@@ -2,8 +2,9 @@
 
 Only what curve extraction needs is kept: lanes (with 3-D shapes as numpy arrays), edges,
 connections, junction polygons, roundabouts and the location. The parser is lxml's
-``iterparse`` with entity resolution and network access off; elements are cleared as
-soon as they are read, so memory grows with the geometry, not with the XML.
+target (SAX-style) parser with entity resolution and network access off: no tree is
+built, so memory grows with the geometry, not with the XML. Shapes are kept as strings
+while reading and parsed in bulk at the end (:func:`parse_shapes`).
 
 Example
 -------
