@@ -1,0 +1,78 @@
+"""The compiled loops against shapely's own answers on random geometry."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+import shapely
+
+from analysis.kernels import (
+    greedy_keys,
+    normal_widths,
+    project_near,
+    segments_distance,
+    vertex_path_bounds,
+    windowed_distance,
+)
+
+RNG = np.random.default_rng(7)
+
+
+def test_segments_distance_matches_shapely() -> None:
+    ring = shapely.Point(0, 0).buffer(5.0, quad_segs=6).exterior
+    c = shapely.get_coordinates(ring)
+    segs = np.stack([c[:-1], c[1:]], axis=1)
+    pts = RNG.uniform(-9, 9, size=(200, 2))
+    expected = shapely.distance(shapely.points(pts), ring)
+    assert segments_distance(pts, segs) == pytest.approx(expected, abs=1e-9)
+
+
+def test_windowed_distance_matches_shapely_on_each_window() -> None:
+    t = np.linspace(0, 3 * np.pi, 300)
+    px, py = 10 * np.cos(t), 10 * np.sin(t) + t  # a rising spiral: its laps do not overlap
+    qx, qy = RNG.uniform(-12, 12, 50), RNG.uniform(-12, 20, 50)
+    lo = RNG.integers(0, 150, 50)
+    hi = lo + RNG.integers(1, 149, 50)
+    got = windowed_distance(px, py, qx, qy, lo, hi)
+    for i in range(50):
+        piece = shapely.LineString(np.c_[px[lo[i]:hi[i] + 1], py[lo[i]:hi[i] + 1]])
+        assert got[i] == pytest.approx(shapely.distance(shapely.Point(qx[i], qy[i]), piece),
+                                       abs=1e-9)
+
+
+def test_normal_widths_match_shapely_intersections() -> None:
+    poly = shapely.Polygon([(0, 0), (10, 0), (10, 4), (6, 4), (6, 8), (0, 8)])
+    c = shapely.get_coordinates(poly.exterior)
+    a, d = c[:-1], np.diff(c, axis=0)
+    xs = RNG.uniform(0.1, 9.9, 40)
+    ys = np.full(40, 1.0)
+    got = normal_widths(xs, ys, np.zeros(40), np.ones(40), a[:, 0], a[:, 1], d[:, 0], d[:, 1])
+    for x, w in zip(xs, got, strict=True):
+        line = shapely.LineString([(x, -1), (x, 9)])
+        assert w == pytest.approx(shapely.intersection(line, poly).length, abs=1e-9)
+
+
+def test_project_near_finds_the_nearest_segment_in_its_window() -> None:
+    xy = np.stack([np.linspace(0, 20, 41), np.zeros(41)], axis=1)[None]
+    seg, along, lat = project_near(np.array([7.3]), np.array([1.5]), xy, np.array([41]),
+                                   np.array([13]), 3)
+    assert (int(seg[0]), float(along[0]), float(lat[0])) == (14, pytest.approx(0.3),
+                                                             pytest.approx(1.5))
+    # before the start the first segment is extended: negative along, right is negative
+    seg, along, lat = project_near(np.array([-2.0]), np.array([-0.5]), xy, np.array([41]),
+                                   np.array([0]), 3)
+    assert (int(seg[0]), float(along[0]), float(lat[0])) == (0, -2.0, -0.5)
+
+
+def test_key_bounds_and_keys_on_a_circle() -> None:
+    a = np.linspace(0.0, np.pi, 181)
+    length, turn = vertex_path_bounds(np.c_[10 * np.cos(a)], np.c_[10 * np.sin(a)])
+    assert length[-1] == pytest.approx(10 * np.pi, rel=1e-4)
+    assert turn[-1] == pytest.approx(np.pi - np.pi / 180, rel=1e-9)  # every bend but the first
+    keys = greedy_keys(length, turn, 0.08)
+    assert keys[0] == 0 and keys[-1] == 180 and np.all(np.diff(keys) > 0)
+    gaps = np.diff(keys)[:-1]
+    # each interval spends the budget: L A <= 0.08 with L = 10 A
+    assert np.all(10 * np.radians(gaps) * np.radians(gaps - 1) <= 0.08 + 1e-12)
+    # and is as long as the budget allows (one sample more would overspend it)
+    assert np.all(10 * np.radians(gaps + 1) * np.radians(gaps) > 0.08 - 1e-12)
