@@ -49,8 +49,9 @@ vehicle with a trailer is refused (the hitch would slide sideways with the steer
 
 Batches
 -------
-:func:`simulate_batch` advances many (vehicle, path) runs together, one numpy operation per
-quantity and step, and returns one :class:`TrackingRun` per pair.
+:func:`simulate_batch` prepares many (vehicle, path) runs as arrays (paths padded to one
+length), advances them all in one compiled loop (:func:`analysis.tracking_loop.run_loop`)
+and returns one :class:`TrackingRun` per pair.
 """
 
 from __future__ import annotations
@@ -62,19 +63,10 @@ from dataclasses import dataclass, field
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from analysis.kinematics import (
-    CRAWL_SPEED_M_S,
-    SpeedProfile,
-    arc_step,
-    as_speed_profile,
-    limit_steering,
-)
-from analysis.polyline import DEFAULT_SPACING_M, Path, prepare_path, project_window
-from analysis.trailer import (
-    advance_articulation,
-    steady_articulation_rad,
-    trailer_axle_point,
-)
+from analysis.kinematics import CRAWL_SPEED_M_S, SpeedProfile, as_speed_profile
+from analysis.polyline import DEFAULT_SPACING_M, Path, prepare_path
+from analysis.tracking_loop import run_loop
+from analysis.trailer import steady_articulation_rad, trailer_axle_point
 from vehicles.errors import InputError
 from vehicles.vehicle import Vehicle
 
@@ -412,7 +404,6 @@ def _pad(
 
 def _run(vehicles: list[Vehicle], paths: list[Path], st: TrackingSettings) -> list[TrackingRun]:
     n = len(vehicles)
-    rows = np.arange(n)
     wb = np.array([v.wheelbase_m for v in vehicles])
     lock = np.array([v.max_steer_rad for v in vehicles])
     rate = np.array([v.max_steer_rate_rad_s for v in vehicles])
@@ -422,7 +413,6 @@ def _run(vehicles: list[Vehicle], paths: list[Path], st: TrackingSettings) -> li
     psi_max = np.array([v.trailer.max_articulation_rad if v.trailer else np.inf
                         for v in vehicles])
     rear_steer = np.array([v.steered_axle == "rear" for v in vehicles])
-    any_rear = bool(rear_steer.any())
     # the reference point is the unsteered axle's centre; the front axle is `ahead` of it
     ahead = np.where(rear_steer, 0.0, wb)
     xy, station, heading, curvature, n_pts = _pad(paths)
@@ -447,70 +437,13 @@ def _run(vehicles: list[Vehicle], paths: list[Path], st: TrackingSettings) -> li
         rho0 = np.where(phi != 0.0, wb / np.tan(phi), np.inf)
     psi = np.where(has_tr, np.nan_to_num(steady_articulation_rad(rho0, e, lt)), 0.0)
     psi = np.clip(psi, -psi_max, psi_max)
-    t = np.zeros(n)
-    seg = np.zeros(n, dtype=np.intp)
-    done = np.zeros(n, dtype=bool)
-    finishing = np.zeros(n, dtype=bool)
-    reached = np.zeros(n, dtype=bool)
-    aborted = np.zeros(n, dtype=bool)
-    jack_t = np.full(n, np.nan)
-    at_lock = np.zeros(n, dtype=np.intp)
-    rate_limited = np.zeros(n, dtype=np.intp)
-    count = np.zeros(n, dtype=np.intp)
-
-    rec = np.full((9, max_steps + 1, n), np.nan)  # t s x y th phi err v psi
-    for k in range(max_steps + 1):
-        live = ~done
-        xf = x + ahead * np.cos(th)
-        yf = y + ahead * np.sin(th)
-        seg, along, err = project_window(xf, yf, xy, n_pts, seg, window)
-        s_f = station[rows, seg] + along
-        v_f = profile.speed(s_f, t)
-        seg_len = station[rows, seg + 1] - station[rows, seg]
-        frac = np.minimum(np.maximum(along / seg_len, 0.0), 1.0)
-        th_path = heading[rows, seg] + frac * (heading[rows, seg + 1] - heading[rows, seg])
-        heading_err = (th_path - th + np.pi) % (2 * np.pi) - np.pi
-        cmd = heading_err - np.arctan(st.gain_1_s * err / (v_f + SOFT_SPEED_M_S))
-        if any_rear:
-            k_path = curvature[rows, seg] + frac * (curvature[rows, seg + 1]
-                                                    - curvature[rows, seg])
-            settle = np.maximum((v_f + SOFT_SPEED_M_S) / st.gain_1_s, wb)
-            k_cmd = (k_path * np.cos(heading_err) / np.maximum(1.0 - k_path * err, 0.1)
-                     + 2.0 * heading_err / settle - err / settle**2)
-            cmd = np.where(rear_steer, np.arctan(wb * k_cmd), cmd)
-        cmd = np.minimum(np.maximum(cmd, -MAX_COMMAND_RAD), MAX_COMMAND_RAD)
-        new_phi = limit_steering(phi, cmd, lock, rate, dt)
-
-        # finished runs are frozen; what is written past their count is never read
-        rec[:, k, :] = (t, s_f, x, y, th, new_phi, err, v_f, psi)
-        count[live] += 1
-        at_end = live & (finishing | (s_f >= length - 1e-9))
-        reached |= at_end
-        bad = live & ~at_end & (np.abs(err) > abort_m)
-        aborted |= bad
-        done |= at_end | bad
-        if k == max_steps or done.all():
-            break
-        live = ~done
-        free = limit_steering(phi, cmd, np.inf, rate, dt)
-        at_lock += live & (np.abs(free) > lock)
-        rate_limited += live & (np.abs(cmd - phi) > rate * dt)
-        phi = np.where(live, new_phi, phi)
-        remaining = length - s_f
-        step_dt = np.where(remaining < v_f * dt, np.maximum(remaining, 0.0) / v_f, dt)
-        finishing |= live & (remaining < v_f * dt)
-        v_ref = np.where(rear_steer, v_f, v_f * np.cos(phi))
-        ds_r = np.where(live, v_ref * step_dt, 0.0)
-        x, y, th = arc_step(x, y, th, 1.0, phi, wb, ds_r)
-        if has_tr.any():
-            new_psi = advance_articulation(psi, np.tan(phi) / wb, ds_r, e, lt,
-                                           st.trailer_substeps)
-            psi = np.where(has_tr, new_psi, 0.0)
-            jack = live & np.isnan(jack_t) & (np.abs(psi) > psi_max)
-            jack_t[jack] = t[jack] + step_dt[jack]
-        t = t + np.where(live, step_dt, 0.0)
-        # a jackknife ends the run after recording the offending state
-        finishing |= live & ~np.isnan(jack_t)
+    rec, count, reached, aborted, jack_t, at_lock, rate_limited = run_loop(
+        x, y, th, phi, psi, wb, lock, rate, has_tr, e, lt, psi_max, rear_steer, ahead,
+        xy, station, heading, curvature, n_pts.astype(np.int64), length,
+        np.asarray(profile.at, dtype=float), np.asarray(profile.speed_m_s, dtype=float),
+        profile.by == "station", float(dt), float(st.gain_1_s), SOFT_SPEED_M_S,
+        MAX_COMMAND_RAD, float(abort_m), int(window), int(max_steps),
+        int(st.trailer_substeps))
 
     runs = []
     for i in range(n):

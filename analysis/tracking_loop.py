@@ -1,0 +1,183 @@
+"""The compiled time loop of :func:`analysis.tracking.simulate_batch` (numba).
+
+One pass over the time steps advances every run of a batch: project the steering point
+onto its path (:func:`analysis.kernels.project_near`), read the speed profile, steer by the
+Stanley law (or, for a rear-steered vehicle, by path curvature and heading error), limit
+the steering by its rate and lock, record the sample, then move the unit along an exact
+arc and advance the trailer's articulation. The step's formulas are those of
+:func:`analysis.kinematics.arc_step`, :func:`analysis.kinematics.limit_steering` and
+:func:`analysis.trailer.advance_articulation`, written here for one run at a time so that
+the loop runs compiled; ``tests/analysis/test_tracking_loop.py`` checks that they agree.
+What the loop means (settings, verdicts, the recorded quantities) is documented in
+:mod:`analysis.tracking`.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+from analysis.kernels import project_near
+
+#: Row of each recorded quantity in the loop's ``(9, steps, runs)`` record.
+RECORD = ("t_s", "s_m", "x_m", "y_m", "theta_rad", "phi_rad", "error_m", "speed_m_s",
+          "psi_rad")
+
+
+@njit(cache=True)
+def arc_step_one(x: float, y: float, theta: float, phi: float, wheelbase: float,
+                 ds: float) -> tuple[float, float, float]:  # pragma: no cover - compiled
+    """:func:`analysis.kinematics.arc_step` for one unit travelling ``ds`` (speed x time).
+
+    Examples
+    --------
+    >>> arc_step_one(0.0, 0.0, 0.0, 0.0, 3.0, 1.0)
+    (1.0, 0.0, 0.0)
+    """
+    dtheta = math.tan(phi) / wheelbase * ds
+    half = 0.5 * dtheta
+    chord = ds * (math.sin(half) / half if half != 0.0 else 1.0)
+    mid = theta + half
+    return x + chord * math.cos(mid), y + chord * math.sin(mid), theta + dtheta
+
+
+@njit(cache=True)
+def limit_one(prev: float, command: float, lock: float, max_change: float
+              ) -> float:  # pragma: no cover - compiled
+    """:func:`analysis.kinematics.limit_steering` for one unit (``max_change = rate dt``).
+
+    Examples
+    --------
+    >>> round(limit_one(0.1, 0.5, 0.6, 0.02), 12)
+    0.12
+    """
+    change = min(max(command - prev, -max_change), max_change)
+    return min(max(prev + change, -lock), lock)
+
+
+@njit(cache=True)
+def _dpsi_ds(psi: float, k: float, e: float, lt: float) -> float:  # pragma: no cover
+    return k - (math.sin(psi) - e * k * math.cos(psi)) / lt
+
+
+@njit(cache=True)
+def articulation_one(psi: float, k: float, ds: float, e: float, lt: float,
+                     substeps: int) -> float:  # pragma: no cover - compiled
+    """:func:`analysis.trailer.advance_articulation` for one unit (RK4, ``substeps``).
+
+    Examples
+    --------
+    >>> articulation_one(0.0, 0.0, 0.1, -0.5, 10.0, 1)
+    0.0
+    """
+    h = ds / substeps
+    for _ in range(substeps):
+        k1 = _dpsi_ds(psi, k, e, lt)
+        k2 = _dpsi_ds(psi + 0.5 * h * k1, k, e, lt)
+        k3 = _dpsi_ds(psi + 0.5 * h * k2, k, e, lt)
+        k4 = _dpsi_ds(psi + h * k3, k, e, lt)
+        psi = psi + h / 6.0 * (k1 + 2.0 * k2 + 2.0 * k3 + k4)
+    return psi
+
+
+@njit(cache=True)
+def run_loop(
+    x: np.ndarray, y: np.ndarray, th: np.ndarray, phi: np.ndarray, psi: np.ndarray,
+    wb: np.ndarray, lock: np.ndarray, rate: np.ndarray, has_tr: np.ndarray, e: np.ndarray,
+    lt: np.ndarray, psi_max: np.ndarray, rear_steer: np.ndarray, ahead: np.ndarray,
+    xy: np.ndarray, station: np.ndarray, heading: np.ndarray, curvature: np.ndarray,
+    n_pts: np.ndarray, length: np.ndarray,
+    prof_at: np.ndarray, prof_speed: np.ndarray, by_station: bool,
+    dt: float, gain: float, soft_speed: float, max_command: float, abort_m: float,
+    window: int, max_steps: int, substeps: int,
+):  # pragma: no cover - compiled
+    """Advance every run until it reaches its path's end, aborts, jackknifes or runs out.
+
+    The state arrays (``x, y, th, phi, psi``) are the runs' initial states, advanced in
+    place. Returns the ``(9, max_steps + 1, n)`` record (rows :data:`RECORD`; a run's
+    samples are its first ``count`` columns) and per run: ``count``, ``reached``,
+    ``aborted``, the jackknife time (NaN: none), steps at lock, steps rate-limited.
+    """
+    n = x.shape[0]
+    rec = np.full((9, max_steps + 1, n), np.nan)
+    count = np.zeros(n, dtype=np.int64)
+    reached = np.zeros(n, dtype=np.bool_)
+    aborted = np.zeros(n, dtype=np.bool_)
+    jack_t = np.full(n, np.nan)
+    at_lock = np.zeros(n, dtype=np.int64)
+    rate_limited = np.zeros(n, dtype=np.int64)
+    seg = np.zeros(n, dtype=np.int64)
+    xf = np.empty(n)
+    yf = np.empty(n)
+    for i in range(n):
+        t = 0.0
+        finishing = False
+        for k in range(max_steps + 1):
+            xf[0] = x[i] + ahead[i] * math.cos(th[i])
+            yf[0] = y[i] + ahead[i] * math.sin(th[i])
+            s_one, along, err_one = project_near(xf[:1], yf[:1], xy[i:i + 1],
+                                                 n_pts[i:i + 1], seg[i:i + 1], window)
+            sg = s_one[0]
+            seg[i] = sg
+            err = err_one[0]
+            s_f = station[i, sg] + along[0]
+            v_f = np.interp(s_f if by_station else t, prof_at, prof_speed)
+            seg_len = station[i, sg + 1] - station[i, sg]
+            frac = min(max(along[0] / seg_len, 0.0), 1.0)
+            th_path = heading[i, sg] + frac * (heading[i, sg + 1] - heading[i, sg])
+            heading_err = (th_path - th[i] + math.pi) % (2.0 * math.pi) - math.pi
+            if rear_steer[i]:
+                k_path = curvature[i, sg] + frac * (curvature[i, sg + 1] - curvature[i, sg])
+                settle = max((v_f + soft_speed) / gain, wb[i])
+                k_cmd = (k_path * math.cos(heading_err) / max(1.0 - k_path * err, 0.1)
+                         + 2.0 * heading_err / settle - err / settle ** 2)
+                cmd = math.atan(wb[i] * k_cmd)
+            else:
+                cmd = heading_err - math.atan(gain * err / (v_f + soft_speed))
+            cmd = min(max(cmd, -max_command), max_command)
+            new_phi = limit_one(phi[i], cmd, lock[i], rate[i] * dt)
+            rec[0, k, i] = t
+            rec[1, k, i] = s_f
+            rec[2, k, i] = x[i]
+            rec[3, k, i] = y[i]
+            rec[4, k, i] = th[i]
+            rec[5, k, i] = new_phi
+            rec[6, k, i] = err
+            rec[7, k, i] = v_f
+            rec[8, k, i] = psi[i]
+            count[i] += 1
+            at_end = finishing or s_f >= length[i] - 1e-9
+            if at_end:
+                reached[i] = True
+                break
+            if abs(err) > abort_m:
+                aborted[i] = True
+                break
+            if k == max_steps:
+                break
+            free = limit_one(phi[i], cmd, np.inf, rate[i] * dt)
+            if abs(free) > lock[i]:
+                at_lock[i] += 1
+            if abs(cmd - phi[i]) > rate[i] * dt:
+                rate_limited[i] += 1
+            phi[i] = new_phi
+            remaining = length[i] - s_f
+            step_dt = dt
+            if remaining < v_f * dt:
+                step_dt = max(remaining, 0.0) / v_f
+                finishing = True
+            v_ref = v_f if rear_steer[i] else v_f * math.cos(phi[i])
+            ds_r = v_ref * step_dt
+            x[i], y[i], th[i] = arc_step_one(x[i], y[i], th[i], phi[i], wb[i], ds_r)
+            if has_tr[i]:
+                psi[i] = articulation_one(psi[i], math.tan(phi[i]) / wb[i], ds_r, e[i], lt[i],
+                                          substeps)
+                if math.isnan(jack_t[i]) and abs(psi[i]) > psi_max[i]:
+                    jack_t[i] = t + step_dt
+            t = t + step_dt
+            # a jackknife ends the run after recording the offending state
+            if not math.isnan(jack_t[i]):
+                finishing = True
+    return rec, count, reached, aborted, jack_t, at_lock, rate_limited
