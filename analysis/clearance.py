@@ -187,11 +187,13 @@ def signed_margin_m(
     """
     if envelope.is_empty:
         raise InputError("signed_margin_m: the envelope is empty")
-    beyond = shapely.difference(envelope, area)
+    beyond = None  # the envelope beyond the area, computed only when it is not covered
+    if not shapely.covers(area, envelope):  # a quick test against the prepared area first
+        beyond = shapely.difference(envelope, area)
     outside = beyond
-    if ignore is not None and shapely.area(beyond) >= 1e-6:
+    if beyond is not None and ignore is not None and shapely.area(beyond) >= 1e-6:
         outside = shapely.difference(beyond, ignore)
-    if shapely.area(outside) < 1e-6:
+    if outside is None or shapely.area(outside) < 1e-6:
         # covered, but for slivers under a square millimetre (floating-point noise along a
         # shared edge) and what pokes out in the ignored region (past the trimmed ends)
         boundary = area_boundary if area_boundary is not None else shapely.boundary(area)

@@ -126,19 +126,20 @@ def catmull_rom(points: ArrayLike, spacing_m: float) -> np.ndarray:
     d = np.hypot(*np.diff(ext[:, :2], axis=0).T)
     dt = np.sqrt(np.maximum(d, 1e-12))  # centripetal: alpha = 1/2
     t = np.concatenate([[0.0], np.cumsum(dt)])
-    out = [pts[:1]]
-    for i in range(1, len(ext) - 2):
-        p0, p1, p2, p3 = ext[i - 1], ext[i], ext[i + 1], ext[i + 2]
-        t0, t1, t2, t3 = t[i - 1], t[i], t[i + 1], t[i + 2]
-        n = max(1, math.ceil(d[i] / spacing_m))
-        u = np.linspace(t1, t2, n + 1)[1:, None]
-        a1 = (t1 - u) / (t1 - t0) * p0 + (u - t0) / (t1 - t0) * p1
-        a2 = (t2 - u) / (t2 - t1) * p1 + (u - t1) / (t2 - t1) * p2
-        a3 = (t3 - u) / (t3 - t2) * p2 + (u - t2) / (t3 - t2) * p3
-        b1 = (t2 - u) / (t2 - t0) * a1 + (u - t0) / (t2 - t0) * a2
-        b2 = (t3 - u) / (t3 - t1) * a2 + (u - t1) / (t3 - t1) * a3
-        out.append((t2 - u) / (t2 - t1) * b1 + (u - t1) / (t2 - t1) * b2)
-    return np.vstack(out)
+    # every piece at once: piece i (between vertices i and i + 1 of ext) gets n_i samples
+    piece = np.arange(1, len(ext) - 2)
+    count = np.maximum(1, np.ceil(d[piece] / spacing_m).astype(np.intp))
+    i = np.repeat(piece, count)
+    step = np.arange(int(count.sum())) - np.repeat(np.cumsum(count) - count, count) + 1
+    t0, t1, t2, t3 = (t[i + k][:, None] for k in (-1, 0, 1, 2))
+    p0, p1, p2, p3 = (ext[i + k] for k in (-1, 0, 1, 2))
+    u = t1 + (t2 - t1) * (step / np.repeat(count, count))[:, None]
+    a1 = (t1 - u) / (t1 - t0) * p0 + (u - t0) / (t1 - t0) * p1
+    a2 = (t2 - u) / (t2 - t1) * p1 + (u - t1) / (t2 - t1) * p2
+    a3 = (t3 - u) / (t3 - t2) * p2 + (u - t2) / (t3 - t2) * p3
+    b1 = (t2 - u) / (t2 - t0) * a1 + (u - t0) / (t2 - t0) * a2
+    b2 = (t3 - u) / (t3 - t1) * a2 + (u - t1) / (t3 - t1) * a3
+    return np.vstack([pts[:1], (t2 - u) / (t2 - t1) * b1 + (u - t1) / (t2 - t1) * b2])
 
 
 #: Smoothing scale of network centre lines (m): the Gaussian's standard deviation along the

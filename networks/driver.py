@@ -78,6 +78,7 @@ import time
 from collections import deque
 from collections.abc import Iterator, Sequence
 from dataclasses import dataclass
+from itertools import repeat
 from pathlib import Path as FilePath
 
 import numpy as np
@@ -131,17 +132,17 @@ class _Unit:
     ``start`` is the first sample whose point lies on the curve's own lanes: the vehicle is
     added to SUMO and placed from then on, never before (libsumo 1.28 crashes writing FCD
     output for a vehicle whose first placement is off every lane). The samples are plain
-    Python lists: the loop passes them to libsumo one by one.
+    Python lists, ``moves`` the ready argument tuples of ``vehicle.moveToXY`` (vehicle,
+    edge hint, lane hint, x, y, angle, keepRoute 2, match threshold): the loop passes them
+    to libsumo one by one.
     """
 
     vid: str
     vtype: str
     x: list[float]
     y: list[float]
-    angle: list[float]
     start: int
-    edge: list[str]
-    lane: list[int]
+    moves: list[tuple]
     added: bool = False
 
 
@@ -434,13 +435,22 @@ class _SumoSession:
         angle = np.asarray(heading_rad_to_navigational(run.trajectory.theta_rad[at]))
         edges, lanes = self._hints(d.curve,
                                    run.trajectory.s_m[at] + d.vehicle.front_overhang_m)
-        units = [_Unit(vid, tid, x.tolist(), y.tolist(), angle.tolist(), first_on(own, x, y),
-                       edges, lanes)]
+        thr = self.options.match_threshold_m
+
+        def unit(uid: str, vtype: str, ux: np.ndarray, uy: np.ndarray, angles: np.ndarray,
+                 edge_hints: list[str], lane_hints: list[int]) -> _Unit:
+            xs, ys = ux.tolist(), uy.tolist()
+            # keepRoute=2: exactly here, also off the route and inside junctions
+            moves = list(zip(repeat(uid), edge_hints, lane_hints, xs, ys, angles.tolist(),
+                             repeat(2), repeat(thr)))
+            return _Unit(uid, vtype, xs, ys, first_on(own, ux, uy), moves)
+
+        units = [unit(vid, tid, x, y, angle, edges, lanes)]
         if ttid is not None:  # no hint for the trailer: SUMO matches it to the nearest lane
             tx, ty, th_t = (c[at] for c in trailer_front(run))
-            units.append(_Unit(vid + ".trailer", ttid, tx.tolist(), ty.tolist(),
-                               np.asarray(heading_rad_to_navigational(th_t)).tolist(),
-                               first_on(own, tx, ty), [""] * len(tx), [-1] * len(tx)))
+            units.append(unit(vid + ".trailer", ttid, tx, ty,
+                              np.asarray(heading_rad_to_navigational(th_t)),
+                              [""] * len(tx), [-1] * len(tx)))
         return _Plan(i, rid, units, len(at), at)
 
     def _add_vehicle(self, vid: str, route: str, vtype: str) -> None:
@@ -474,7 +484,6 @@ class _SumoSession:
 
     def _place_all(self, active: dict[int, _Plan]) -> None:
         """Place every vehicle in flight at its current sample; drop the runs SUMO refuses."""
-        thr = self.options.match_threshold_m
         move = self.move_to_xy
         refused = self.traci.TraCIException
         for i, plan in list(active.items()):
@@ -486,8 +495,7 @@ class _SumoSession:
                     if not u.added:
                         self._add_vehicle(u.vid, plan.route, u.vtype)
                         u.added = True
-                    # keepRoute=2: exactly here, also off the route and inside junctions
-                    move(u.vid, u.edge[k], u.lane[k], u.x[k], u.y[k], u.angle[k], 2, thr)
+                    move(*u.moves[k])
             except refused as exc:
                 sample = int(plan.samples[k])
                 t_s = float(self.out[plan.index].run.trajectory.t_s[sample])
