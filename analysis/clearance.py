@@ -47,6 +47,7 @@ from analysis.envelope import (
     DEFAULT_TOLERANCE_M,
     DEFAULT_WIDTH_STEP_M,
     SweptPath,
+    ring_segments,
     swept_path,
 )
 from analysis.kernels import segments_distance
@@ -232,10 +233,7 @@ def signed_margin_m(
     # larger than the window's margin is exact (any nearer part would lie in the window).
     lo, hi = probe.min(axis=0) - NEAR_M, probe.max(axis=0) + NEAR_M
     near = shapely.clip_by_rect(area, lo[0], lo[1], hi[0], hi[1])
-    rings = shapely.get_rings(shapely.get_parts(near))
-    edges = [np.stack([c[:-1], c[1:]], axis=1)
-             for c in (shapely.get_coordinates(r) for r in rings) if len(c) > 1]
-    segs = np.concatenate(edges) if edges else np.empty((0, 2, 2))
+    segs = np.stack(ring_segments(near), axis=1)
 
     def distance(xy: np.ndarray) -> np.ndarray:
         d = segments_distance(xy, segs)

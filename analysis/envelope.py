@@ -111,6 +111,26 @@ class SweptPath:
     max_swept_width_station_m: float
 
 
+def body_points(
+    x_m: FloatArray, y_m: FloatArray, theta_rad: FloatArray, along_m: FloatArray,
+    across_m: FloatArray,
+) -> tuple[FloatArray, FloatArray]:
+    """Points fixed to a moving body, ``(n, m)`` x and y: ``along_m`` ahead of the reference
+    point on the heading and ``across_m`` to its left, at each of ``n`` poses.
+
+    Examples
+    --------
+    A point 2 m ahead and 1 m to the left, at heading 0 (straight ahead) and at +90 degrees:
+
+    >>> px, py = body_points(np.zeros(2), np.zeros(2), np.array([0.0, np.pi / 2]),
+    ...                      np.array([2.0]), np.array([1.0]))
+    >>> np.round(px, 9).ravel().tolist(), np.round(py, 9).ravel().tolist()
+    ([2.0, -1.0], [1.0, 2.0])
+    """
+    c, s = np.cos(theta_rad)[:, None], np.sin(theta_rad)[:, None]
+    return x_m[:, None] + along_m * c - across_m * s, y_m[:, None] + along_m * s + across_m * c
+
+
 def body_corners(
     x_m: FloatArray,
     y_m: FloatArray,
@@ -134,12 +154,9 @@ def body_corners(
            [ 4.,  1.],
            [-1.,  1.]])
     """
-    c, s = np.cos(theta_rad), np.sin(theta_rad)
     along = np.array([-behind_m, ahead_m, ahead_m, -behind_m])
     across = np.array([-0.5, -0.5, 0.5, 0.5]) * width_m
-    cx = x_m[:, None] + along[None, :] * c[:, None] - across[None, :] * s[:, None]
-    cy = y_m[:, None] + along[None, :] * s[:, None] + across[None, :] * c[:, None]
-    return np.stack([cx, cy], axis=-1)
+    return np.stack(body_points(x_m, y_m, theta_rad, along, across), axis=-1)
 
 
 def key_samples(
@@ -226,11 +243,9 @@ def sweep(
     True
     """
     # vertices of both parts: the body's corners and the two ends of its axle line
-    c, s = np.cos(theta_rad), np.sin(theta_rad)
     along = np.array([-behind_m, ahead_m, ahead_m, -behind_m, axle_m, axle_m])
     across = np.array([-0.5, -0.5, 0.5, 0.5, -0.5, 0.5]) * width_m
-    px = x_m[:, None] + along * c[:, None] - across * s[:, None]
-    py = y_m[:, None] + along * s[:, None] + across * c[:, None]
+    px, py = body_points(x_m, y_m, theta_rad, along, across)
     keys = key_samples(px, py, tolerance_m)
     xs, ys, ths = x_m[keys], y_m[keys], theta_rad[keys]
     if len(keys) == 1:
@@ -301,13 +316,21 @@ def wheel_tracks(vehicle: Vehicle, traj: Trajectory) -> dict[str, shapely.LineSt
     return dict(zip(pts, lines, strict=True))
 
 
-def _ring_segments(geom: BaseGeometry) -> tuple[FloatArray, FloatArray]:
-    """Start points and vectors of every boundary segment of a (multi)polygon."""
-    rings = shapely.get_rings(shapely.get_parts(geom))
-    coords = [shapely.get_coordinates(r) for r in rings]
-    a = np.concatenate([c[:-1] for c in coords])
-    b = np.concatenate([c[1:] for c in coords])
-    return a, b - a
+def ring_segments(geom: BaseGeometry) -> tuple[FloatArray, FloatArray]:
+    """Start and end points, ``(k, 2)`` each, of every boundary segment of a (multi)polygon.
+
+    Examples
+    --------
+    >>> a, b = ring_segments(shapely.box(0, 0, 2, 1))
+    >>> len(a), float(np.hypot(*(b - a).T).sum())
+    (4, 6.0)
+    >>> [x.shape for x in ring_segments(shapely.Polygon())]
+    [(0, 2), (0, 2)]
+    """
+    coords, ring = shapely.get_coordinates(shapely.get_rings(shapely.get_parts(geom)),
+                                           return_index=True)
+    same = ring[1:] == ring[:-1]
+    return coords[:-1][same], coords[1:][same]
 
 
 def swept_widths(
@@ -337,7 +360,8 @@ def swept_widths(
     stations = np.linspace(0.0, last, k)
     p = path.point_at(stations)
     h = path.heading_at(stations)
-    a, d = _ring_segments(envelope)
+    a, b = ring_segments(envelope)
+    d = b - a
     widths = normal_widths(p[:, 0], p[:, 1], -np.sin(h), np.cos(h), a[:, 0], a[:, 1], d[:, 0],
                            d[:, 1])
     return np.stack([stations, widths], axis=1)
