@@ -237,14 +237,7 @@ def read_network(path: str | os.PathLike[str]) -> Network:
             raise InputError(f"{p}: malformed or truncated XML ({exc})") from exc
         except (EOFError, OSError) as exc:
             raise InputError(f"{p}: truncated or corrupt file ({exc})") from exc
-        net = state.finish()
-        # Without this, the collector's next passes would scan the million objects just
-        # made (about 0.3 s each, three passes: young, middle, old generation); they hold
-        # no cycles, so it could never free them anyway. Side effect: objects alive at
-        # this moment elsewhere in the process are frozen too (still freed when no longer
-        # referenced, but never by the cyclic collector).
-        gc.freeze()
-        return net
+        return state.finish()
 
 
 @contextmanager
