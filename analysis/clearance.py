@@ -50,7 +50,7 @@ from analysis.envelope import (
     ring_segments,
     swept_path,
 )
-from analysis.kernels import segments_distance
+from analysis.kernels import farthest_from_segments, segments_distance
 from analysis.polyline import Path
 from analysis.tracking import TrackingRun
 from vehicles.errors import InputError
@@ -225,7 +225,8 @@ def signed_margin_m(
     if len(lone):
         circles = shapely.maximum_inscribed_circle(lone, densify_m)
         extra = shapely.get_coordinates(shapely.get_point(circles, 0))
-    probe = np.concatenate([shapely.get_coordinates(lines), extra])
+    coords, part = shapely.get_coordinates(shapely.get_parts(lines), return_index=True)
+    probe = np.concatenate([coords, extra])
     if not len(probe):
         return 0.0
     # Distances to the boundary of the part of the area near the envelope first (every probe
@@ -242,7 +243,10 @@ def signed_margin_m(
             d[far] = shapely.distance(shapely.points(xy[far]), area)
         return d
 
-    deepest = farthest_on_lines(lines, distance, densify_m / 2)
+    # compiled; the same search with the area's own distance when a probe is beyond the window
+    deepest = farthest_from_segments(coords, part[1:] == part[:-1], segs, densify_m / 2, NEAR_M)
+    if math.isnan(deepest):
+        deepest = farthest_on_lines(lines, distance, densify_m / 2)
     if len(extra):
         deepest = max(deepest, float(np.max(distance(extra))))
     return -deepest

@@ -58,7 +58,13 @@ import shapely
 from numpy.typing import NDArray
 from shapely.geometry.base import BaseGeometry
 
-from analysis.kernels import greedy_keys, normal_widths, vertex_path_bounds, windowed_distance
+from analysis.kernels import (
+    greedy_keys,
+    normal_widths,
+    pair_hulls,
+    vertex_path_bounds,
+    windowed_distance,
+)
 from analysis.tracking import TrackingRun, Trajectory
 from vehicles.vehicle import Vehicle
 
@@ -207,6 +213,30 @@ def key_samples(
     return greedy_keys(length, turn, 4.0 * tolerance_m).astype(np.intp)
 
 
+def interval_hulls(corners: FloatArray) -> NDArray[np.object_]:
+    """Convex hulls of a quadrilateral's consecutive positions, ``(n, 4, 2)`` -> ``n - 1``.
+
+    Compiled (:func:`analysis.kernels.pair_hulls`); where a hull has no area (a body of no
+    width moving along itself) GEOS's convex hull takes over, which gives line strings.
+
+    Examples
+    --------
+    >>> sq = np.array([[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]])
+    >>> hulls = interval_hulls(np.stack([sq, sq + [1.0, 0.0], sq + [1.0, 1.0]]))
+    >>> shapely.area(hulls).tolist()
+    [2.0, 2.0]
+    >>> bar = np.array([[0.0, 0.0], [1.0, 0.0], [1.0, 0.0], [0.0, 0.0]])
+    >>> interval_hulls(np.stack([bar, bar + [1.0, 0.0]]))[0].wkt
+    'LINESTRING (0 0, 2 0)'
+    """
+    coords, offsets = pair_hulls(np.ascontiguousarray(corners, dtype=float))
+    if len(offsets) == len(corners) or len(corners) < 2:
+        return shapely.from_ragged_array(shapely.GeometryType.POLYGON, coords,
+                                         (offsets, np.arange(len(offsets))))
+    pairs = np.concatenate([corners[:-1], corners[1:]], axis=1)
+    return shapely.convex_hull(shapely.multipoints(pairs))
+
+
 def sweep(
     x_m: FloatArray,
     y_m: FloatArray,
@@ -254,9 +284,7 @@ def sweep(
     for ahead, behind in ((ahead_m, -axle_m), (axle_m, behind_m)):
         if ahead + behind <= 0:
             continue
-        corners = body_corners(xs, ys, ths, ahead, behind, width_m)
-        pairs = np.concatenate([corners[:-1], corners[1:]], axis=1)
-        pieces.append(shapely.convex_hull(shapely.multipoints(pairs)))
+        pieces.append(interval_hulls(body_corners(xs, ys, ths, ahead, behind, width_m)))
     # the two parts of each interval first (neighbours overlap most): about twice as fast
     intervals = shapely.union(*pieces) if len(pieces) == 2 else pieces[0]
     return shapely.union_all(intervals)

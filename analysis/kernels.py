@@ -41,6 +41,12 @@ def windowed_distance(px: np.ndarray, py: np.ndarray, qx: np.ndarray, qy: np.nda
     Segment ``j`` joins points ``j`` and ``j + 1`` of ``(px, py)``; ``inf`` where the
     window is empty.
 
+    Every segment of the window counts, but not every one is measured: the search starts at
+    the previous point's nearest segment and goes both ways along the polyline, and a point
+    of the polyline at distance ``d`` from ``q_i`` rules out every segment within ``d - best``
+    of it along the polyline (a path of that length cannot come nearer than ``best``). The
+    segments left out could not be nearer, so the minimum is the one over the whole window.
+
     Examples
     --------
     A straight path along x; a point 2 m beside it, another beyond its last segment:
@@ -57,15 +63,51 @@ def windowed_distance(px: np.ndarray, py: np.ndarray, qx: np.ndarray, qy: np.nda
     ...                   np.array([2, 1]), np.array([4, 1])).tolist()
     [2.0, inf]
     """
+    m = px.shape[0]
+    arc = np.zeros(m)
+    for k in range(m - 1):
+        arc[k + 1] = arc[k] + math.hypot(px[k + 1] - px[k], py[k + 1] - py[k])
     n = qx.shape[0]
     out = np.empty(n)
+    start = -1
     for i in range(n):
-        best = np.inf
-        for j in range(lo[i], hi[i]):
-            d2 = _point_segment_d2(qx[i], qy[i], px[j], py[j], px[j + 1], py[j + 1])
-            if d2 < best:
-                best = d2
-        out[i] = math.sqrt(best)
+        a, b = lo[i], hi[i]
+        if b <= a:
+            out[i] = np.inf
+            continue
+        x, y = qx[i], qy[i]
+        j0 = start if a <= start < b else b - 1
+        best2 = _point_segment_d2(x, y, px[j0], py[j0], px[j0 + 1], py[j0 + 1])
+        best = math.sqrt(best2)
+        nearest = j0
+        j = j0 - 1
+        while j >= a:  # back along the polyline, ruling out from each segment's end point
+            ex, ey = x - px[j + 1], y - py[j + 1]
+            slack = math.sqrt(ex * ex + ey * ey) - best - 1e-9
+            if slack > 0.0 and arc[j] > arc[j + 1] - slack:
+                lim = arc[j + 1] - slack
+                while j >= a and arc[j] > lim:
+                    j -= 1
+                continue
+            d2 = _point_segment_d2(x, y, px[j], py[j], px[j + 1], py[j + 1])
+            if d2 < best2:
+                best2, best, nearest = d2, math.sqrt(d2), j
+            j -= 1
+        j = j0 + 1
+        while j < b:  # and ahead, ruling out from each segment's start point
+            ex, ey = x - px[j], y - py[j]
+            slack = math.sqrt(ex * ex + ey * ey) - best - 1e-9
+            if slack > 0.0 and arc[j + 1] < arc[j] + slack:
+                lim = arc[j] + slack
+                while j < b and arc[j + 1] < lim:
+                    j += 1
+                continue
+            d2 = _point_segment_d2(x, y, px[j], py[j], px[j + 1], py[j + 1])
+            if d2 < best2:
+                best2, best, nearest = d2, math.sqrt(d2), j
+            j += 1
+        out[i] = best
+        start = nearest
     return out
 
 
@@ -93,6 +135,82 @@ def segments_distance(xy: np.ndarray, segs: np.ndarray) -> np.ndarray:  # pragma
                 best = d2
         out[i] = math.sqrt(best)
     return out
+
+
+@njit(cache=True)
+def farthest_from_segments(coords: np.ndarray, joined: np.ndarray, segs: np.ndarray,
+                           tolerance_m: float,
+                           reach_m: float) -> float:  # pragma: no cover - compiled
+    """Largest distance to segments ``(m, 2, 2)`` over lines, by branch and bound.
+
+    The lines are the points ``coords`` ``(k, 2)``, point ``i`` joined to point ``i + 1``
+    where ``joined[i]``. The same search, in the same rounds, as
+    :func:`analysis.clearance.farthest_on_lines` with :func:`segments_distance` as the
+    distance (short of the maximum by at most ``tolerance_m``). Returns ``nan`` as soon as a
+    probed point lies farther than ``reach_m`` from every segment: the caller then needs a
+    distance the segments cannot give.
+
+    Examples
+    --------
+    The distance from the x axis along a roof line peaks half-way, at 3 m; a probe beyond
+    the reach gives ``nan``:
+
+    >>> roof = np.array([[0.0, 0.0], [4.0, 3.0], [8.0, 0.0]])
+    >>> axis = np.array([[[-10.0, 0.0], [10.0, 0.0]]])
+    >>> farthest_from_segments(roof, np.array([True, True]), axis, 0.01, 5.0)
+    3.0
+    >>> farthest_from_segments(roof, np.array([True, True]), axis, 0.01, 2.0)
+    nan
+    """
+    k = coords.shape[0]
+    if k == 0:
+        return 0.0
+    d = segments_distance(coords, segs)
+    best = -np.inf
+    for i in range(k):
+        if not d[i] <= reach_m:
+            return np.nan
+        if d[i] > best:
+            best = d[i]
+    count = 0
+    for i in range(k - 1):
+        if joined[i]:
+            count += 1
+    a = np.empty((count, 2))
+    b = np.empty((count, 2))
+    da = np.empty(count)
+    db = np.empty(count)
+    c = 0
+    for i in range(k - 1):
+        if joined[i]:
+            a[c], b[c], da[c], db[c] = coords[i], coords[i + 1], d[i], d[i + 1]
+            c += 1
+    while count:
+        keep = np.empty(count, dtype=np.bool_)
+        n_open = 0
+        for i in range(count):  # what each segment could hold at most
+            bound = 0.5 * (da[i] + db[i] + math.hypot(b[i, 0] - a[i, 0], b[i, 1] - a[i, 1]))
+            keep[i] = bound > best + tolerance_m
+            n_open += keep[i]
+        if n_open == 0:
+            break
+        oa = a[keep]
+        ob = b[keep]
+        oda = da[keep]
+        odb = db[keep]
+        mid = 0.5 * (oa + ob)
+        dm = segments_distance(mid, segs)
+        for i in range(n_open):
+            if not dm[i] <= reach_m:
+                return np.nan
+            if dm[i] > best:
+                best = dm[i]
+        a = np.concatenate((oa, mid))
+        b = np.concatenate((mid, ob))
+        da = np.concatenate((oda, dm))
+        db = np.concatenate((dm, odb))
+        count = 2 * n_open
+    return best
 
 
 @njit(cache=True)
@@ -231,6 +349,77 @@ def greedy_keys(length: np.ndarray, turn: np.ndarray,
         count += 1
         i = j
     return keys[:count]
+
+
+@njit(cache=True)
+def _cross(ox: float, oy: float, ax: float, ay: float, bx: float,
+           by: float) -> float:  # pragma: no cover - compiled
+    return (ax - ox) * (by - oy) - (ay - oy) * (bx - ox)
+
+
+@njit(cache=True)
+def pair_hulls(corners: np.ndarray) -> tuple[np.ndarray, np.ndarray]:  # pragma: no cover
+    """Convex hulls of consecutive quadrilaterals: hull ``i`` of ``corners[i]`` and ``[i + 1]``.
+
+    ``corners`` is ``(n, 4, 2)``. Returns the hulls' closed rings, counter-clockwise, as
+    ``(k, 2)`` coordinates and ``(n, )`` offsets (ring ``i`` is rows ``offsets[i]`` to
+    ``offsets[i + 1] - 1``, its first point repeated last; Andrew's monotone chain, collinear
+    points dropped), ready for ``shapely.from_ragged_array``. A hull with no area (all eight
+    points on one line) makes the whole answer empty (one offset, no rows): the caller must
+    then use another way.
+
+    Examples
+    --------
+    A unit square moved 1 m right sweeps a 2 x 1 rectangle:
+
+    >>> sq = np.array([[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]])
+    >>> coords, offsets = pair_hulls(np.stack([sq, sq + [1.0, 0.0]]))
+    >>> coords.tolist(), offsets.tolist()
+    ([[0.0, 0.0], [2.0, 0.0], [2.0, 1.0], [0.0, 1.0], [0.0, 0.0]], [0, 5])
+
+    Flat quadrilaterals (a bar of no width) moved along their own line have no hull area:
+
+    >>> bar = np.array([[0.0, 0.0], [1.0, 0.0], [1.0, 0.0], [0.0, 0.0]])
+    >>> [x.shape for x in pair_hulls(np.stack([bar, bar + [1.0, 0.0]]))]
+    [(0, 2), (1,)]
+    """
+    n = corners.shape[0] - 1
+    out = np.empty((max(n, 0) * 9, 2))
+    offsets = np.zeros(max(n, 0) + 1, dtype=np.int64)
+    px = np.empty(8)
+    py = np.empty(8)
+    hx = np.empty(17)
+    hy = np.empty(17)
+    pos = 0
+    for i in range(n):
+        for k in range(8):  # the eight corners, sorted by x then y (insertion sort)
+            x, y = corners[i + k // 4, k % 4, 0], corners[i + k // 4, k % 4, 1]
+            b = k - 1
+            while b >= 0 and (px[b] > x or (px[b] == x and py[b] > y)):
+                px[b + 1], py[b + 1] = px[b], py[b]
+                b -= 1
+            px[b + 1], py[b + 1] = x, y
+        m = 0
+        for a in range(8):  # lower chain, left to right
+            while m >= 2 and _cross(hx[m - 2], hy[m - 2], hx[m - 1], hy[m - 1], px[a],
+                                    py[a]) <= 0.0:
+                m -= 1
+            hx[m], hy[m] = px[a], py[a]
+            m += 1
+        lower = m + 1
+        for a in range(6, -1, -1):  # upper chain, right to left, back to the first point
+            while m >= lower and _cross(hx[m - 2], hy[m - 2], hx[m - 1], hy[m - 1], px[a],
+                                        py[a]) <= 0.0:
+                m -= 1
+            hx[m], hy[m] = px[a], py[a]
+            m += 1
+        if m < 4:  # fewer than three distinct vertices: no area
+            return out[:0], offsets[:1]
+        for a in range(m):
+            out[pos, 0], out[pos, 1] = hx[a], hy[a]
+            pos += 1
+        offsets[i + 1] = pos
+    return out[:pos], offsets
 
 
 @njit(cache=True)

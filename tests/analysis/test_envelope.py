@@ -10,7 +10,7 @@ import pytest
 import shapely
 from shapely import affinity
 
-from analysis.envelope import body_corners, swept_path
+from analysis.envelope import body_corners, interval_hulls, swept_path
 from analysis.kinematics import arc_step
 from analysis.tracking import simulate, simulate_batch
 from tests.analysis.helpers import bus, car, semi, steady_rho, turn
@@ -151,3 +151,19 @@ def test_rear_steered_swept_width_and_outswing_in_steady_state() -> None:
     late = (s > 5.0 + radius * math.radians(200.0)) & (s < s[-1] - 1.0)  # not the path's end
     outswing = math.hypot(radius, v.wheelbase_m) - radius
     assert np.allclose(sp.offtracking_m[late], outswing, rtol=0.01)
+
+
+def test_interval_hulls_are_shapely_convex_hulls_also_without_area() -> None:
+    rng = np.random.default_rng(11)
+    th = np.cumsum(rng.normal(0.0, 0.3, 12))
+    x, y = np.cumsum(rng.uniform(0, 1, 12)), np.cumsum(rng.uniform(-1, 1, 12))
+    for width in (2.5, 0.0):  # a body, and a bar of no width (hulls without area)
+        for theta in (th, np.zeros(12)):  # turning, and sliding along the bar itself
+            corners = body_corners(x if theta is th else np.arange(12.0),
+                                   y if theta is th else np.zeros(12), theta, 4.0, 1.0, width)
+            got = interval_hulls(corners)
+            ref = shapely.convex_hull(shapely.multipoints(
+                np.concatenate([corners[:-1], corners[1:]], axis=1)))
+            assert len(got) == 11
+            assert list(shapely.get_type_id(got)) == list(shapely.get_type_id(ref))
+            assert shapely.equals(got, ref).all()

@@ -6,9 +6,12 @@ import numpy as np
 import pytest
 import shapely
 
+from analysis.clearance import farthest_on_lines
 from analysis.kernels import (
+    farthest_from_segments,
     greedy_keys,
     normal_widths,
+    pair_hulls,
     project_near,
     segments_distance,
     vertex_path_bounds,
@@ -76,3 +79,68 @@ def test_key_bounds_and_keys_on_a_circle() -> None:
     assert np.all(10 * np.radians(gaps) * np.radians(gaps - 1) <= 0.08 + 1e-12)
     # and is as long as the budget allows (one sample more would overspend it)
     assert np.all(10 * np.radians(gaps + 1) * np.radians(gaps) > 0.08 - 1e-12)
+
+
+def _wiggly_path(n: int) -> tuple[np.ndarray, np.ndarray]:
+    """A random polyline with uneven steps, sharp and gentle bends, and repeated points."""
+    steps = RNG.uniform(0.0, 0.5, n - 1) * (RNG.uniform(size=n - 1) > 0.05)
+    h = np.cumsum(RNG.normal(0.0, RNG.uniform(0.01, 1.0), n - 1))
+    return (np.concatenate([[0.0], np.cumsum(steps * np.cos(h))]),
+            np.concatenate([[0.0], np.cumsum(steps * np.sin(h))]))
+
+
+def test_windowed_distance_equals_the_brute_force_minimum_over_each_window() -> None:
+    # the search leaves segments out: the minimum must still be the whole window's, exactly
+    for _ in range(100):
+        n = int(RNG.integers(2, 300))
+        px, py = _wiggly_path(n)
+        k = int(RNG.integers(1, 200))
+        qx = RNG.uniform(px.min() - 5, px.max() + 5, k)
+        qy = RNG.uniform(py.min() - 5, py.max() + 5, k)
+        lo = np.sort(RNG.integers(0, n - 1, k))
+        hi = np.maximum(np.sort(lo + RNG.integers(0, n - lo)), lo)
+        got = windowed_distance(px, py, qx, qy, lo, hi)
+        segs = np.stack([np.c_[px[:-1], py[:-1]], np.c_[px[1:], py[1:]]], axis=1)
+        for i in range(k):
+            expected = segments_distance(np.array([[qx[i], qy[i]]]), segs[lo[i]:hi[i]])[0]
+            assert got[i] == expected
+
+
+def test_pair_hulls_match_shapely_convex_hulls() -> None:
+    # random quadrilaterals (rectangles moved and turned, and arbitrary ones) in sequence
+    for shape in range(40):
+        n = int(RNG.integers(2, 30))
+        if shape % 2:
+            corners = RNG.uniform(-5, 5, size=(n, 4, 2))
+        else:
+            rect = np.array([[-1.0, -1.2], [4.0, -1.2], [4.0, 1.2], [-1.0, 1.2]])
+            th = np.cumsum(RNG.normal(0, 0.2, n))
+            c, s = np.cos(th)[:, None], np.sin(th)[:, None]
+            corners = np.stack([rect[:, 0] * c - rect[:, 1] * s + np.arange(n)[:, None],
+                                rect[:, 0] * s + rect[:, 1] * c], axis=-1)
+        coords, offsets = pair_hulls(corners)
+        hulls = shapely.from_ragged_array(shapely.GeometryType.POLYGON, coords,
+                                          (offsets, np.arange(len(offsets))))
+        ref = shapely.convex_hull(shapely.multipoints(
+            np.concatenate([corners[:-1], corners[1:]], axis=1)))
+        assert len(hulls) == n - 1 and shapely.is_valid(hulls).all()
+        assert np.all(shapely.area(shapely.symmetric_difference(hulls, ref)) < 1e-9)
+        assert np.all(shapely.area(hulls) == pytest.approx(shapely.area(ref), abs=1e-9))
+        # counter-clockwise rings, as shapely's hulls
+        assert shapely.is_ccw(shapely.get_exterior_ring(hulls)).all()
+
+
+def test_farthest_from_segments_is_the_same_search_as_farthest_on_lines() -> None:
+    ring = shapely.Point(0, 0).buffer(5.0, quad_segs=6).exterior
+    c = shapely.get_coordinates(ring)
+    segs = np.stack([c[:-1], c[1:]], axis=1)
+    for _ in range(30):
+        lines = shapely.MultiLineString([RNG.uniform(-8, 8, size=(int(RNG.integers(2, 8)), 2))
+                                         for _ in range(int(RNG.integers(1, 4)))])
+        coords, part = shapely.get_coordinates(shapely.get_parts(lines), return_index=True)
+        got = farthest_from_segments(coords, part[1:] == part[:-1], segs, 0.01, 100.0)
+        expected = farthest_on_lines(lines, lambda p: segments_distance(p, segs), 0.01)
+        assert got == pytest.approx(expected, abs=1e-12)
+        # and a reach shorter than the farthest probe asks the caller to take over
+        assert np.isnan(farthest_from_segments(coords, part[1:] == part[:-1], segs, 0.01,
+                                               0.5 * got))
