@@ -4,7 +4,8 @@ Only what curve extraction needs is kept: lanes (with 3-D shapes as numpy arrays
 connections, junction polygons, roundabouts and the location. The parser is lxml's
 target (SAX-style) parser with entity resolution and network access off: no tree is
 built, so memory grows with the geometry, not with the XML. Shapes are kept as strings
-while reading and parsed in bulk at the end (:func:`parse_shapes`).
+while reading and parsed in bulk at the end (:func:`parse_shapes`). A large plain file is
+read in two parts at once, on two cores (:mod:`networks.read_split`), with the same result.
 
 Example
 -------
@@ -18,18 +19,20 @@ from __future__ import annotations
 import gc
 import logging
 import os
-import warnings
 from collections import defaultdict
 from collections.abc import Iterator
 from contextlib import contextmanager
 from dataclasses import dataclass, field
-from itertools import repeat
+from functools import partial
+from itertools import islice
 from pathlib import Path
+from typing import NamedTuple
 
 import numpy as np
 from lxml import etree
 
 from networks.safe_xml import open_binary, scan_prolog
+from networks.shapes import EMPTY_SHAPE, parse_shapes
 from vehicles.errors import InputError
 
 log = logging.getLogger(__name__)
@@ -87,9 +90,12 @@ class Edge:
     lanes: list[str] = field(default_factory=list)
 
 
-@dataclass(slots=True)
-class Connection:
-    """A link from one lane to another, through ``via`` (the first internal lane) if any."""
+class Connection(NamedTuple):
+    """A link from one lane to another, through ``via`` (the first internal lane) if any.
+
+    A named tuple: a large network has hundreds of thousands, made from parsed rows in
+    one C-level call each.
+    """
 
     from_edge: str
     to_edge: str
@@ -107,6 +113,11 @@ class Connection:
     def to_lane(self) -> str:
         """Id of the lane the connection enters."""
         return f"{self.to_edge}_{self.to_lane_index}"
+
+
+#: A :class:`Connection` from a row of its six fields (``tuple.__new__`` in C, without the
+#: Python-level checks of ``Connection._make``: the rows come from this module).
+_new_connection = partial(tuple.__new__, Connection)
 
 
 @dataclass(slots=True)
@@ -216,18 +227,14 @@ def read_network(path: str | os.PathLike[str]) -> Network:
     root_tag = scan_prolog(p)
     if root_tag != "net":
         raise InputError(f"{p}: not a SUMO network (root element <{root_tag}>, expected <net>)")
-    state = _ParseState(p)
-    parser = etree.XMLParser(
-        target=state,
-        resolve_entities=False,
-        no_network=True,
-        load_dtd=False,
-        huge_tree=True,
-        remove_comments=True,
-        remove_pis=True,
-        collect_ids=False,
-    )
     with gc_paused():  # a million objects that live on: collections would only scan them
+        from networks.read_split import read_in_two, split_offset
+
+        offset = split_offset(p)
+        if offset is not None and (state := read_in_two(p, offset)) is not None:
+            return state.finish()
+        state = _ParseState(p)
+        parser = make_parser(state)
         try:
             with open_binary(p) as fh:
                 while chunk := fh.read(_CHUNK_BYTES):
@@ -238,6 +245,30 @@ def read_network(path: str | os.PathLike[str]) -> Network:
         except (EOFError, OSError) as exc:
             raise InputError(f"{p}: truncated or corrupt file ({exc})") from exc
         return state.finish()
+
+
+def make_parser(state: _ParseState) -> etree.XMLParser:
+    """lxml's target parser feeding ``state``: no entities, no network, no DTD, no tree."""
+    return etree.XMLParser(
+        target=state,
+        resolve_entities=False,
+        no_network=True,
+        load_dtd=False,
+        huge_tree=True,
+        remove_comments=True,
+        remove_pis=True,
+        collect_ids=False,
+    )
+
+
+def cores() -> int:
+    """How many cores the reader and the areas may use: ``CLEARANCE_THREADS`` if set, else
+    the cores this process may run on (at most 4)."""
+    env = os.environ.get("CLEARANCE_THREADS", "").strip()
+    if env.isdigit() and int(env) > 0:
+        return int(env)
+    return max(1, min(4, len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity")
+                      else os.cpu_count() or 1))
 
 
 @contextmanager
@@ -313,7 +344,8 @@ class _ParseState:
         self.path = path
         self.lanes: dict[str, Lane] = {}
         self.edges: dict[str, Edge] = {}
-        self.connections: list[Connection] = []
+        #: (from, to, fromLane, toLane, via, dir) rows; objects are made by :meth:`finish`
+        self.connection_rows: list[tuple[str, str, int, int, str | None, str]] = []
         self.junctions: dict[str, Junction] = {}
         self.roundabouts: list[Roundabout] = []
         self.location = Location()
@@ -321,6 +353,20 @@ class _ParseState:
         self.edge: Edge | None = None
         self.lane_shapes: list[str] = []
         self.junction_shapes: list[str] = []
+        self.location_seen = False
+        self.lanes_settled = 0  # lanes and junctions whose shapes are parsed
+        self.junctions_settled = 0
+        self.orphan_lanes = False
+
+    def add_lane(self, lane: Lane, shape: str) -> None:
+        """Add a lane read elsewhere (its shape string is parsed by :meth:`finish`)."""
+        self.lane_shapes.append(shape)
+        self.lanes[lane.id] = lane
+
+    def add_junction(self, junction: Junction, shape: str) -> None:
+        """Add a junction read elsewhere (its shape string is parsed by :meth:`finish`)."""
+        self.junction_shapes.append(shape)
+        self.junctions[junction.id] = junction
 
     def start(self, tag: str, attrib: dict[str, str]) -> None:
         """Called by lxml for each start tag (a SAX-style target: no tree is built).
@@ -335,12 +381,13 @@ class _ParseState:
                 to = get("to")
                 if frm is None or to is None:
                     raise InputError(f"{self.path}: a <connection> lacks 'from' or 'to'")
-                self.connections.append(Connection(
+                self.connection_rows.append((
                     frm, to, int(get("fromLane", "0")), int(get("toLane", "0")), get("via"),
                     get("dir", "")))
             elif tag == "lane":
                 edge = self.edge
                 if edge is None:
+                    self.orphan_lanes = True
                     return
                 lane_id = get("id")
                 if lane_id is None:
@@ -350,7 +397,7 @@ class _ParseState:
                 self.lanes[lane_id] = Lane(
                     lane_id, edge.id, int(get("index", "0")),
                     float(width) if width is not None else DEFAULT_LANE_WIDTH_M,
-                    edge.function, resolve_allowed(get("allow"), get("disallow")), _EMPTY,
+                    edge.function, resolve_allowed(get("allow"), get("disallow")), EMPTY_SHAPE,
                     float(get("length", "nan")), float(get("speed", "nan")))
                 edge.lanes.append(lane_id)
             elif tag == "edge":
@@ -384,7 +431,7 @@ class _ParseState:
                 float(get("x", "0")),
                 float(get("y", "0")),
                 float(get("z", "0")),
-                _EMPTY,
+                EMPTY_SHAPE,
                 tuple((get("incLanes") or "").split()),
                 tuple((get("intLanes") or "").split()),
             )
@@ -397,6 +444,7 @@ class _ParseState:
             )
         elif tag == "location":
             off = _floats(get("netOffset"), 2, (0.0, 0.0))
+            self.location_seen = True
             self.location = Location(
                 net_offset=(off[0], off[1]),
                 conv_boundary=_floats(get("convBoundary"), 4, (0.0,) * 4),  # type: ignore[arg-type]
@@ -407,151 +455,38 @@ class _ParseState:
     def close(self) -> None:
         """Called by lxml at the end of the document."""
 
+    def settle_shapes(self) -> None:
+        """Parse the shape strings read since the last call into the lanes' and junctions'
+        arrays (in bulk, :func:`parse_shapes`)."""
+        for what, items, shapes, done in (
+            ("lane", self.lanes, self.lane_shapes, self.lanes_settled),
+            ("junction", self.junctions, self.junction_shapes, self.junctions_settled),
+        ):
+            if len(items) - done != len(shapes):
+                raise InputError(f"{self.path}: {len(shapes) - len(items) + done} {what}(s) "
+                                 "reuse an id already read")
+            objs = list(islice(items.values(), done, None))
+            arrays = parse_shapes(shapes, [o.id for o in objs], f"{self.path}: {what}")
+            for obj, shape in zip(objs, arrays, strict=True):
+                if what == "lane" and len(shape) < 2:
+                    raise InputError(f"{self.path}: lane {obj.id!r}: shape has fewer than 2 points")
+                obj.shape = shape
+            shapes.clear()
+        self.lanes_settled = len(self.lanes)
+        self.junctions_settled = len(self.junctions)
+
     def finish(self) -> Network:
         if not self.seen_root and not self.edges:
             raise InputError(f"{self.path}: not a SUMO network (no <edge> elements)")
         if not self.edges:
             raise InputError(f"{self.path}: the network is empty (no <edge> elements)")
-        lane_shapes = parse_shapes(self.lane_shapes, list(self.lanes), f"{self.path}: lane")
-        for lane, shape in zip(self.lanes.values(), lane_shapes, strict=True):
-            if len(shape) < 2:
-                raise InputError(f"{self.path}: lane {lane.id!r}: shape has fewer than 2 points")
-            lane.shape = shape
-        for junction, shape in zip(
-            self.junctions.values(),
-            parse_shapes(self.junction_shapes, list(self.junctions), f"{self.path}: junction"),
-            strict=True,
-        ):
-            junction.shape = shape
+        self.settle_shapes()
         return Network(
             path=self.path,
             lanes=self.lanes,
             edges=self.edges,
-            connections=self.connections,
+            connections=list(map(_new_connection, self.connection_rows)),
             junctions=self.junctions,
             roundabouts=self.roundabouts,
             location=self.location,
         )
-
-
-_EMPTY = np.zeros((0, 3))
-_EMPTY.flags.writeable = False
-
-
-def parse_shape(text: str) -> np.ndarray:
-    """Parse one SUMO shape string (points ``x,y`` or ``x,y,z``) into an (N, 3) array.
-
-    Examples
-    --------
-    >>> parse_shape("0,0 3,4,1.5")
-    array([[0. , 0. , 0. ],
-           [3. , 4. , 1.5]])
-    >>> parse_shape("").shape
-    (0, 3)
-    """
-    pts = text.split()
-    out = np.zeros((len(pts), 3))
-    for i, pt in enumerate(pts):
-        vals = pt.split(",")
-        if len(vals) not in (2, 3):
-            raise ValueError(f"point {pt!r} is not x,y or x,y,z")
-        out[i, : len(vals)] = [float(v) for v in vals]
-    return out
-
-
-def parse_shapes(
-    texts: list[str], names: list[str] | None = None, what: str = "shape"
-) -> list[np.ndarray]:
-    """Parse many shape strings at once (fast path: one numpy call per kind of shape).
-
-    Strings that are all ``x,y`` or all ``x,y,z`` with single spaces are parsed in bulk,
-    grouped by dimensionality and number of points (each group becomes one (M, N, 3)
-    array whose rows are the shapes returned); others (mixed, or irregular spacing) one
-    by one with :func:`parse_shape`. Errors name ``what`` and the string's entry in
-    ``names``.
-
-    Examples
-    --------
-    >>> [a.shape for a in parse_shapes(["0,0 1,1", "0,0,1 1,1,2 2,2", ""])]
-    [(2, 3), (3, 3), (0, 3)]
-    """
-    n = len(texts)
-    length = np.fromiter(map(len, texts), np.int64, n)
-    trimmed = np.fromiter(map(len, map(str.strip, texts, repeat(" "))), np.int64, n)
-    counts = np.fromiter(map(str.count, texts, repeat(" ")), np.int64, n) + 1
-    commas = np.fromiter(map(str.count, texts, repeat(",")), np.int64, n)
-    regular = (length > 0) & (trimmed == length)
-    dims = np.where(commas == counts, 2, np.where(commas == 2 * counts, 3, 0)) * regular
-    pool: list[np.ndarray] = [_EMPTY]  # out[i] is pool[where[i]]
-    where = np.zeros(n, dtype=np.int64)
-
-    def add(indices: list[int], arrays: list[np.ndarray]) -> None:
-        where[indices] = np.arange(len(pool), len(pool) + len(arrays))
-        pool.extend(arrays)
-
-    odd = np.flatnonzero((length > 0) & (dims == 0)).tolist()
-    add(odd, [_parse_one(texts[i], names, what, i) for i in odd])
-    failed: dict[int, list[int]] = {2: [], 3: []}
-    key = dims * (counts.max(initial=0) + 1) + counts
-    order = np.argsort(key, kind="stable")[np.count_nonzero(dims == 0) :]
-    cuts = np.flatnonzero(np.diff(key[order])) + 1
-    for group in np.split(order, cuts) if len(order) else []:
-        dim, count = int(dims[group[0]]), int(counts[group[0]])
-        for k in range(0, len(group), _BATCH):
-            idx = group[k : k + _BATCH].tolist()
-            flat = _bulk_floats(" ".join([texts[i] for i in idx]), dim, count * len(idx))
-            if flat is None:
-                failed[dim].extend(idx)  # parsed one by one below, to find the bad one
-                continue
-            block = flat.reshape(len(idx), count, dim)
-            if dim == 2:
-                block = np.concatenate((block, np.zeros((len(idx), count, 1))), axis=2)
-            add(idx, list(block))
-    for dim in (2, 3):
-        bad = sorted(failed[dim])
-        add(bad, [_parse_one(texts[i], names, what, i) for i in bad])
-    return list(map(pool.__getitem__, where.tolist()))
-
-
-_BATCH = 20000
-
-
-def _bulk_floats(joined: str, dim: int, n_points: int) -> np.ndarray | None:
-    """The coordinates of ``n_points`` points ``x,y`` (``dim`` 2) or ``x,y,z`` separated by
-    single spaces, as parsed one by one would give them; None when ``joined`` is not
-    exactly that (a separator out of place, an empty or bad number, one not finite).
-
-    Examples
-    --------
-    >>> _bulk_floats("0,1 2,3.5", 2, 2)
-    array([0. , 1. , 2. , 3.5])
-    >>> _bulk_floats("0,1 2,3,4", 2, 2) is None
-    True
-    """
-    expected = ((", " if dim == 2 else ",, ") * n_points)[:-1].encode()
-    if joined.encode("ascii", "replace").translate(None, _NUMBER_CHARS) != expected:
-        return None
-    text = joined.replace(",", " ")
-    if "  " in text or text[:1] == " " or text[-1:] == " ":
-        return None  # an empty number (np.fromstring would skip it)
-    try:
-        with warnings.catch_warnings():
-            warnings.simplefilter("error", DeprecationWarning)  # text left unread
-            arr = np.fromstring(text, dtype=np.float64, sep=" ")
-    except (ValueError, DeprecationWarning):
-        return None
-    return arr if arr.size == dim * n_points and np.isfinite(arr).all() else None
-
-
-_NUMBER_CHARS = b"0123456789.+-eE"
-
-
-def _parse_one(text: str, names: list[str] | None, what: str, i: int) -> np.ndarray:
-    what = f"{what} {names[i]!r}" if names is not None else f"{what} #{i + 1}"
-    try:
-        arr = parse_shape(text)
-    except ValueError as exc:
-        raise InputError(f"{what}: bad shape: {exc}") from exc
-    if not np.isfinite(arr).all():
-        raise InputError(f"{what}: non-finite coordinate in shape {text[:60]!r}")
-    return arr

@@ -18,13 +18,9 @@ import networks.profiles
 import networks.reader
 import networks.safe_xml
 import networks.samples.sources
-from networks.reader import (
-    DEFAULT_LANE_WIDTH_M,
-    parse_shape,
-    parse_shapes,
-    read_network,
-    resolve_allowed,
-)
+import networks.shapes
+from networks.reader import DEFAULT_LANE_WIDTH_M, read_network, resolve_allowed
+from networks.shapes import parse_shape, parse_shapes
 from vehicles.errors import InputError
 
 NODES = """
@@ -48,6 +44,7 @@ def test_doctests_of_network_modules():
         networks.profiles,
         networks.reader,
         networks.safe_xml,
+        networks.shapes,
         networks.samples.sources,
     )
     for mod in modules:
