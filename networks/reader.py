@@ -26,6 +26,7 @@ from dataclasses import dataclass, field
 from functools import partial
 from itertools import islice
 from pathlib import Path
+from sys import intern
 from typing import NamedTuple
 
 import numpy as np
@@ -381,9 +382,9 @@ class _ParseState:
                 to = get("to")
                 if frm is None or to is None:
                     raise InputError(f"{self.path}: a <connection> lacks 'from' or 'to'")
-                self.connection_rows.append((
-                    frm, to, int(get("fromLane", "0")), int(get("toLane", "0")), get("via"),
-                    get("dir", "")))
+                self.connection_rows.append((  # edge ids interned: one string per edge
+                    intern(frm), intern(to), int(get("fromLane", "0")),
+                    int(get("toLane", "0")), get("via"), get("dir", "")))
             elif tag == "lane":
                 edge = self.edge
                 if edge is None:
