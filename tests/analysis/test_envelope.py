@@ -10,7 +10,7 @@ import pytest
 import shapely
 from shapely import affinity
 
-from analysis.envelope import body_corners, interval_hulls, swept_path
+from analysis.envelope import body_corners, interval_hulls, key_samples, sweep, swept_path
 from analysis.kinematics import arc_step
 from analysis.tracking import simulate, simulate_batch
 from tests.analysis.helpers import bus, car, semi, steady_rho, turn
@@ -167,3 +167,25 @@ def test_interval_hulls_are_shapely_convex_hulls_also_without_area() -> None:
             assert len(got) == 11
             assert list(shapely.get_type_id(got)) == list(shapely.get_type_id(ref))
             assert shapely.equals(got, ref).all()
+
+
+@pytest.mark.parametrize("axle", [0.0, 4.5, 1.0])  # rear axle, a rear-steered front axle, between
+def test_sweep_is_the_union_of_every_interval_hull_of_both_parts(axle) -> None:
+    # the union leaves out the shorter part's hulls that the longer part's sweep covers:
+    # the area must be the union of them all, as shapely computes it
+    rng = np.random.default_rng(5)
+    th = np.cumsum(np.concatenate([np.zeros(20), rng.normal(0.02, 0.03, 200)]))
+    x, y = np.cumsum(0.3 * np.cos(th)), np.cumsum(0.3 * np.sin(th))
+    got = sweep(x, y, th, 4.5, 2.0, 2.5, axle_m=axle)
+    along = np.array([-2.0, 4.5, 4.5, -2.0, axle, axle])
+    across = np.array([-1.25, -1.25, 1.25, 1.25, -1.25, 1.25])
+    c, s = np.cos(th)[:, None], np.sin(th)[:, None]
+    keys = key_samples(x[:, None] + along * c - across * s, y[:, None] + along * s + across * c)
+    hulls = []
+    for ahead, behind in ((4.5, -axle), (axle, 2.0)):
+        corners = body_corners(x[keys], y[keys], th[keys], ahead, behind, 2.5)
+        hulls += list(shapely.convex_hull(shapely.multipoints(
+            np.concatenate([corners[:-1], corners[1:]], axis=1))))
+    expected = shapely.union_all(hulls)
+    assert shapely.area(shapely.symmetric_difference(got, expected)) < 1e-9
+    assert got.area == pytest.approx(expected.area, rel=1e-12)
