@@ -21,14 +21,18 @@ holes under :data:`MIN_HOLE_M2` (wedges between lane pieces) are filled.
     the opposite direction included). A bend's neighbourhood is the two junctions of its
     edge.
 
-Lane polygons are made once for the whole network with vectorised ``shapely.buffer``;
-areas shared by many curves (one junction's paved area serves all its turns) are unioned
-once, with ``shapely.union_all`` over rows of an array, and the curves share the object.
-A paved area is the union of its plain lanes, edges and junction polygon first, then of
-that with only the internal lanes it does not already cover (the same area, far fewer
-crossings to node). The vectorised shapely calls are split over :data:`WORKERS` threads.
-``own_lanes`` is a buffer of the centre line, so at lane joins it may stick out of the
-lane polygons of ``roadway`` by slivers of a few square centimetres.
+Areas are built for a batch of curves at a time (:func:`build_areas`; all curves at once
+with :func:`attach_areas`, on demand per batch with :class:`networks.area_book.AreaBook`):
+the lane polygons the batch needs with vectorised ``shapely.buffer``, then the pieces, then
+the areas; curves of the batch that share an area (one junction's paved area serves all
+its turns) share the object. Which lanes and pieces make each area is decided in
+:mod:`networks.area_groups`, in a fixed order, so that an area is the same whichever batch
+builds it. Unions of a few polygons are pairwise, larger ones ``shapely.union_all`` over
+rows of an array. A paved area is the union of its plain lanes, edges and junction polygon
+first, then of that with the union of only the internal lanes it does not already cover
+(the same area, far fewer crossings to node). The vectorised shapely calls are split over
+:data:`WORKERS` threads. ``own_lanes`` is a buffer of the centre line, so at lane joins it
+may stick out of the lane polygons of ``roadway`` by slivers of a few square centimetres.
 """
 
 from __future__ import annotations
@@ -42,7 +46,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 import shapely
 
-from networks.paths import junction_of_internal, via_lanes
+from networks.area_groups import AreaIndex, BatchPlan
 from networks.reader import Network, gc_paused
 
 #: The polygons ``roadway`` and ``paved`` are made of are grown by this much (metres), so
@@ -103,43 +107,20 @@ def own_lane_polygons(curves: Sequence[Curve]) -> np.ndarray:
     return _threaded(buffer, lines, half)
 
 
-class _Catalogue:
-    """Numbered geometries (lane and junction polygons) made on demand, in batches."""
+def _union_rows(
+    groups: list[list[int]], geoms: np.ndarray, seal: bool = True, pairwise_max: int = 3
+) -> np.ndarray:
+    """Union each group of entries, in the group's order (one call per group size).
 
-    def __init__(self, net: Network):
-        self.net = net
-        self.index: dict[str, int] = {}
-        self.keys: list[str] = []
+    Groups of up to ``pairwise_max`` entries are unioned pairwise from the first entry on
+    (faster than the cascaded union when the entries overlap little), larger ones with
+    ``union_all``. With ``seal``, the results are cleared of small holes.
 
-    def ref(self, key: str) -> int:
-        i = self.index.get(key)
-        if i is None:
-            i = self.index[key] = len(self.keys)
-            self.keys.append(key)
-        return i
-
-    def build(self) -> np.ndarray:
-        """Lane polygons (round ends) and junction polygons, all grown by :data:`SEAL_M`."""
-        lanes = [k[2:] for k in self.keys if k.startswith("L:")]
-        lane_geoms = iter(lane_polygons(self.net, lanes, "round", grow_m=SEAL_M))
-        out = np.empty(len(self.keys), dtype=object)
-        for i, k in enumerate(self.keys):
-            if k.startswith("L:"):
-                out[i] = next(lane_geoms)
-            else:
-                shape = self.net.junctions[k[2:]].shape
-                poly = shapely.Polygon(shape[:, :2]) if len(shape) >= 3 else None
-                out[i] = shapely.make_valid(poly) if poly is not None else None
-        junctions = np.array([k.startswith("J:") for k in self.keys], dtype=bool)
-        if junctions.any():
-            out[junctions] = shapely.buffer(out[junctions], SEAL_M, quad_segs=1, join_style="mitre")
-        return out
-
-
-def _union_rows(groups: list[list[int]], geoms: np.ndarray, seal: bool = True) -> np.ndarray:
-    """Union each group of entries (one ``union_all`` call per group size).
-
-    With ``seal``, the results are cleared of small holes.
+    Examples
+    --------
+    >>> g = np.array([shapely.box(0, 0, 2, 1), shapely.box(1, 0, 3, 1), shapely.box(5, 0, 6, 1)])
+    >>> [float(a.area) for a in _union_rows([[0, 1], [0, 1, 2], [2]], g)]
+    [3.0, 4.0, 1.0]
     """
     out = np.empty(len(groups), dtype=object)
     if not groups:
@@ -157,24 +138,29 @@ def _union_rows(groups: list[list[int]], geoms: np.ndarray, seal: bool = True) -
             out[rows] = geoms[[groups[g][0] for g in rows]]
             continue
         table = geoms[np.array([groups[g] for g in rows], dtype=np.intp)]
-        if size <= 3:  # pairwise unions beat the cascaded union on a few polygons
-            acc = table[:, 0]
-            for col in range(1, int(size)):
-                acc = _threaded(shapely.union, acc, table[:, col])
-            out[rows] = acc
-        else:
-            out[rows] = _threaded(_union_all_rows, table)
-    if not seal:
-        return out
-    parts = shapely.get_parts(out, return_index=True)
+        rows_union = _pairwise_rows if size <= pairwise_max else _union_all_rows
+        out[rows] = _threaded(rows_union, table)
+    return _seal(out) if seal else out
+
+
+def _seal(areas: np.ndarray) -> np.ndarray:
+    """Clear areas of holes smaller than :data:`MIN_HOLE_M2` (in place; returned)."""
+    parts = shapely.get_parts(areas, return_index=True)
     holed = np.unique(parts[1][shapely.get_num_interior_rings(parts[0]) > 0])
     for i in holed:
-        out[i] = _fill_small_holes(out[i])
-    return out
+        areas[i] = _fill_small_holes(areas[i])
+    return areas
 
 
 def _union_all_rows(table: np.ndarray) -> np.ndarray:
     return shapely.union_all(table, axis=1)
+
+
+def _pairwise_rows(table: np.ndarray) -> np.ndarray:
+    acc = table[:, 0]
+    for col in range(1, table.shape[1]):
+        acc = shapely.union(acc, table[:, col])
+    return acc
 
 
 #: Threads for the vectorised shapely calls (they release the GIL): one per core, at most 4
@@ -235,242 +221,143 @@ def _fill_small_holes(geom, min_hole_m2: float | None = None):
     return parts[0] if len(parts) == 1 else shapely.MultiPolygon(parts)
 
 
+def junction_polygons(net: Network, junction_ids: Sequence[str]) -> np.ndarray:
+    """Junction polygons (made valid) grown by :data:`SEAL_M`; None where a junction has
+    fewer than three shape points.
+
+    Examples
+    --------
+    >>> from networks.reader import Junction, Location
+    >>> sq = np.array([[0, 0, 0], [4, 0, 0], [4, 4, 0], [0, 4, 0.0]])
+    >>> j = Junction("J", "priority", 2.0, 2.0, 0.0, sq, (), ())
+    >>> net = Network(None, {}, {}, [], {"J": j}, [], Location())
+    >>> round(float(junction_polygons(net, ["J"])[0].area), 3)  # (4 + 2 mm)^2
+    16.016
+    """
+    out = np.empty(len(junction_ids), dtype=object)
+    for i, j in enumerate(junction_ids):
+        shape = net.junctions[j].shape
+        out[i] = shapely.make_valid(shapely.Polygon(shape[:, :2])) if len(shape) >= 3 else None
+    if len(out):
+        out[:] = shapely.buffer(out, SEAL_M, quad_segs=1, join_style="mitre")
+    return out
+
+
+def build_areas(
+    index: AreaIndex, curves: Sequence[Curve]
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The ``own_lanes``, ``roadway`` and ``paved`` areas of some curves (one array each).
+
+    Curves of the batch with the same roadway members share one object, and so do those
+    with the same paved members (one paved area per junction, one roadway per movement).
+    The lanes, junction polygons and pieces are made for this call only.
+    """
+    if not curves:
+        empty = np.empty(0, dtype=object)
+        return empty, empty, empty
+    with gc_paused():
+        plan = BatchPlan(index)
+        of = np.array([plan.add(c) for c in curves], dtype=np.intp)
+        roadway, paved = _build_groups(plan)
+        return own_lane_polygons(curves), roadway[of[:, 0]], paved[of[:, 1]]
+
+
 def attach_areas(net: Network, curves: Sequence[Curve]) -> None:
-    """Set ``own_lanes``, ``roadway`` and ``paved`` on each curve (in place).
+    """Build ``own_lanes``, ``roadway`` and ``paved`` of every curve now and keep them on
+    the curves (in place; :func:`networks.curves.extract_curves` builds them on demand
+    instead, see :class:`networks.area_book.AreaBook`).
 
     Unions are built in two levels: pieces first (an edge's road lanes, an edge's lanes,
     the internal road lanes of one movement ``a -> b``), then each roadway from its
     pieces and each junction's paved area from its polygon and pieces. Curves share the
     results: one paved area per junction, one roadway per movement.
     """
-    if not curves:
-        return
-    with gc_paused():
-        _attach(net, curves)
+    own, roadway, paved = build_areas(AreaIndex(net), curves)
+    for curve, o, r, p in zip(curves, own, roadway, paved, strict=True):
+        curve.set_areas(o, r, p)
 
 
-def _attach(net: Network, curves: Sequence[Curve]) -> None:
-    own = own_lane_polygons(curves)
-    b = _AreaBuilder(net)
-    road_of = []
-    paved_of = []
-    for c in curves:
-        plain = tuple(_plain_edges_of(net, c.lanes))
-        road_of.append(b.roadway_group(c, plain))
-        paved_of.append(b.paved_group(c, plain))
-    roadway, paved = b.build()
-    for curve, o, r_i, p_i in zip(curves, own, road_of, paved_of, strict=True):
-        curve.own_lanes, curve.roadway, curve.paved = o, roadway[r_i], paved[p_i]
+def _build_groups(plan: BatchPlan) -> tuple[np.ndarray, np.ndarray]:
+    """The geometry of every roadway group and paved group of a plan."""
+    lane_at: dict[str, int] = {}
+    for lanes in plan.pieces.values():
+        for k in lanes:
+            lane_at.setdefault(k, len(lane_at))
+    junction_ids: dict[str, int] = {}
+    for members in (*plan.road_groups, *plan.paved_groups):
+        for m in members:
+            if m[0] == "L":
+                lane_at.setdefault(m[2:], len(lane_at))
+            elif m[0] == "J":
+                junction_ids.setdefault(m[2:], len(junction_ids))
+    n_lanes = len(lane_at)
+    geoms = np.concatenate((
+        lane_polygons(plan.net, list(lane_at), "round", grow_m=SEAL_M),
+        junction_polygons(plan.net, list(junction_ids)),
+    ))
+    # pieces with the same lanes (an edge's lanes that are all road lanes) share one union
+    rows_of: dict[tuple[int, ...], int] = {}
+    piece_at = {}
+    for key, lanes in plan.pieces.items():
+        row = tuple(lane_at[k] for k in lanes)
+        piece_at[key] = len(geoms) + rows_of.setdefault(row, len(rows_of))
+    all_geoms = np.concatenate((geoms, _union_rows([list(r) for r in rows_of], geoms, seal=False)))
+
+    def at(member: str) -> int:
+        kind = member[0]
+        if kind == "L":
+            return lane_at[member[2:]]
+        if kind == "J":
+            return n_lanes + junction_ids[member[2:]]
+        return piece_at[member]
+
+    roadway = _union_rows([[at(m) for m in g] for g in plan.road_groups], all_geoms)
+    return roadway, _paved(plan, geoms, all_geoms, at, lane_at)
 
 
-class _AreaBuilder:
-    """Registers the lanes, pieces and groups the curves need, then unions them in batches."""
-
-    def __init__(self, net: Network):
-        self.net = net
-        self.cat = _Catalogue(net)
-        self.pieces: dict[str, list[int]] = {}
-        self.groups: dict[str, dict[frozenset[str], int]] = {"road": {}, "paved": {}}
-        self.incident = _incident_edges(net)
-        self.internal = _internal_lanes_by_junction(net)
-        self.movement_at: dict[tuple[str, str], str] = {}
-        self.junction_members: dict[str, frozenset[str]] = {}
-        self.road_pieces: dict[tuple[str, ...], tuple[list[str], frozenset[str]]] = {}
-        self.paved_near: dict[tuple[str, ...], frozenset[str]] = {}
-        self.group_of: dict[str, dict[tuple, int]] = {"road": {}, "paved": {}}
-
-    def _piece(self, key: str, lanes: Sequence[str]) -> str | None:
-        if key not in self.pieces:
-            if not lanes:
-                return None
-            self.pieces[key] = [self.cat.ref("L:" + k) for k in lanes]
-        return key
-
-    def edge_piece(self, edge: str, road_only: bool) -> str | None:
-        lanes = self.net.edges[edge].lanes
-        if road_only:
-            lanes = [k for k in lanes if self.net.lanes[k].allows_road_vehicles()]
-        return self._piece(("ER:" if road_only else "EA:") + edge, lanes)
-
-    def movement_piece(self, a: str, b: str) -> str | None:
-        key = f"M:{a}>{b}"
-        if key in self.pieces:
-            return key
-        lanes: list[str] = []
-        for lane_id in self.net.edges[a].lanes:
-            for c in self.net.outgoing(lane_id):
-                if c.to_edge == b and c.via:
-                    lanes.extend(
-                        k for k in via_lanes(self.net, c) or [] if self._road(k) and k not in lanes
-                    )
-        return self._piece(key, lanes)
-
-    def _road(self, lane_id: str) -> bool:
-        return self.net.lanes[lane_id].allows_road_vehicles()
-
-    def roadway_group(self, curve: Curve, plain: tuple[str, ...]) -> int:
-        """The roadway group of a curve running on the plain edges ``plain``."""
-        hit = self.road_pieces.get(plain)
-        if hit is None:
-            keys = [self.edge_piece(e, True) for e in plain]
-            keys += [self.movement_piece(a, b) for a, b in zip(plain, plain[1:], strict=False)]
-            keys = [k for k in keys if k]
-            covered = frozenset(self.cat.keys[i][2:] for k in keys for i in self.pieces[k])
-            hit = self.road_pieces[plain] = (keys, covered)
-        keys, covered = hit
-        # a lane of the curve in no piece (e.g. a ring passage without a connection)
-        extra = tuple(k for k in curve.lanes if k not in covered)
-        return self._group("road", (plain, extra), lambda: [*keys, *("L:" + k for k in extra)])
-
-    def paved_group(self, curve: Curve, plain: tuple[str, ...]) -> int:
-        """The paved group of a curve: its junctions' areas and what they miss of it."""
-        junctions = tuple(_junctions_of(self.net, curve))
-        hit = self.paved_near.get(junctions)
-        if hit is None:
-            near_edges: set[str] = set()
-            for j in junctions:
-                near_edges.update(self.incident.get(j, []))
-            hit = self.paved_near[junctions] = frozenset(near_edges)
-        near = hit
-        extra = tuple(
-            k for k in curve.lanes
-            if not k.startswith(":") and self.net.lanes[k].edge not in near
-            and self.net.lanes[k].edge not in plain
-        )
-        return self._group(
-            "paved", (junctions, plain, extra), lambda: self._paved_members(junctions, plain, extra)
-        )
-
-    def _paved_members(
-        self, junctions: tuple[str, ...], plain: tuple[str, ...], extra: tuple[str, ...]
-    ) -> list[str]:
-        members: set[str] = set()
-        near = self.paved_near[junctions]
-        for j in junctions:
-            members |= self.junction(j)
-        for e in plain:
-            if e not in near:
-                members.add(self.edge_piece(e, False) or "")
-        for a, b in zip(plain, plain[1:], strict=False):
-            if self.net.edges[a].to_junction not in junctions:
-                members.add(self.movement_piece(a, b) or "")
-        members.update("L:" + k for k in extra)  # lanes of the curve nothing above covers
-        members.discard("")
-        return sorted(members)
-
-    def _group(self, kind: str, key: tuple, members: Callable[[], list[str]]) -> int:
-        """The group of a curve by ``key``; a new key's members are deduplicated by value."""
-        ids = self.group_of[kind]
-        hit = ids.get(key)
-        if hit is None:
-            hit = ids[key] = self.group(kind, frozenset(members()))
-        return hit
-
-    def junction(self, j: str) -> frozenset[str]:
-        hit = self.junction_members.get(j)
-        if hit is not None:
-            return hit
-        keys = {"J:" + j}
-        in_movements: set[str] = set()
-        for e in self.incident.get(j, []):
-            keys.add(self.edge_piece(e, False) or "")
-            if self.net.edges[e].to_junction == j:
-                outs = {c.to_edge for k in self.net.edges[e].lanes for c in self.net.outgoing(k)}
-                for b in sorted(outs):
-                    key = self.movement_piece(e, b) if b in self.net.edges else None
-                    if key:
-                        keys.add(key)
-                        in_movements.update(self.cat.keys[i][2:] for i in self.pieces[key])
-        keys.update("L:" + k for k in self.internal.get(j, []) if k not in in_movements)
-        keys.discard("")
-        self.cat.ref("J:" + j)
-        hit = self.junction_members[j] = frozenset(keys)
-        return hit
-
-    def group(self, kind: str, members: frozenset[str]) -> int:
-        table = self.groups[kind]
-        return table.setdefault(members, len(table))
-
-    def build(self) -> tuple[np.ndarray, np.ndarray]:
-        for table in self.groups.values():
-            for members in table:
-                for k in members:
-                    if k.startswith(("L:", "J:")):
-                        self.cat.ref(k)
-        geoms = self.cat.build()
-        # pieces with the same lanes (an edge's lanes that are all road lanes) share one union
-        rows_of: dict[tuple[int, ...], int] = {}
-        piece_row = {k: rows_of.setdefault(tuple(m), len(rows_of)) for k, m in self.pieces.items()}
-        piece_geoms = _union_rows([list(r) for r in rows_of], geoms, seal=False)
-        index = {k: len(geoms) + r for k, r in piece_row.items()}
-        index.update({k: i for i, k in enumerate(self.cat.keys)})
-        all_geoms = np.concatenate((geoms, piece_geoms))
-        roadway = _union_rows([sorted(index[k] for k in m) for m in self.groups["road"]], all_geoms)
-        return roadway, self._paved(geoms, all_geoms, index)
-
-    def _paved(self, geoms: np.ndarray, all_geoms: np.ndarray, index: dict[str, int]) -> np.ndarray:
-        """Paved areas: the union of each group's plain lanes, edges and junction polygon
-        first, then of that with the internal lanes it does not already cover (most lie
-        inside the junction polygon: leaving them out is the same union, much cheaper)."""
-        base_rows: list[list[int]] = []
-        inner_rows: list[list[int]] = []
-        for members in self.groups["paved"]:
-            base: set[int] = set()
-            inner: set[int] = set()
-            for k in members:
-                if k.startswith("M:"):
-                    inner.update(self.pieces[k])
-                elif k.startswith("L::"):
-                    inner.add(index[k])
-                else:
-                    base.add(index[k])
-            base_rows.append(sorted(base))
-            inner_rows.append(sorted(inner - base))
-        first = _union_rows(base_rows, all_geoms, seal=False)
-        shapely.prepare(first)
-        row_of = np.repeat(np.arange(len(inner_rows)), [len(r) for r in inner_rows])
-        inner = np.array([i for r in inner_rows for i in r], dtype=np.intp)
-        covered = _threaded(shapely.covers, first[row_of], geoms[inner])
-        shapely.destroy_prepared(first)
-        rest: list[list[int]] = [[len(geoms) + g] for g in range(len(first))]
-        for g, i in zip(row_of[~covered].tolist(), inner[~covered].tolist(), strict=True):
-            rest[g].append(i)
-        return _union_rows(rest, np.concatenate((geoms, first)))
+def _paved(
+    plan: BatchPlan,
+    geoms: np.ndarray,
+    all_geoms: np.ndarray,
+    at: Callable[[str], int],
+    lane_at: dict[str, int],
+) -> np.ndarray:
+    """Paved areas: the union of each group's plain lanes, edges and junction polygon
+    first, then of that with the internal lanes it does not already cover (most lie
+    inside the junction polygon: leaving them out is the same union, much cheaper)."""
+    base_rows: list[list[int]] = []
+    inner_rows: list[list[int]] = []
+    for members in plan.paved_groups:
+        base: list[int] = []
+        inner: set[str] = set()
+        for m in members:
+            if m[0] == "M":
+                inner.update(plan.pieces[m])
+            elif m.startswith("L::"):
+                inner.add(m[2:])
+            else:
+                base.append(at(m))
+        in_base = set(base)
+        base_rows.append(base)
+        inner_rows.append([i for i in (lane_at[k] for k in sorted(inner)) if i not in in_base])
+    first = _union_rows(base_rows, all_geoms, seal=False, pairwise_max=PAIRWISE_MAX)
+    shapely.prepare(first)
+    row_of = np.repeat(np.arange(len(inner_rows)), [len(r) for r in inner_rows])
+    inner = np.array([i for r in inner_rows for i in r], dtype=np.intp)
+    covered = _threaded(shapely.covers, first[row_of], geoms[inner])
+    shapely.destroy_prepared(first)
+    rest: list[list[int]] = [[] for _ in range(len(first))]
+    for g, i in zip(row_of[~covered].tolist(), inner[~covered].tolist(), strict=True):
+        rest[g].append(i)
+    # the lanes that stick out are unioned together first, then with the rest
+    out = first.copy()
+    some = np.flatnonzero([len(r) > 0 for r in rest])
+    if len(some):
+        lanes = _union_rows([rest[g] for g in some], geoms, seal=False)
+        out[some] = _threaded(shapely.union, first[some], lanes)
+    return _seal(out)
 
 
-def _plain_edges_of(net: Network, lanes: Sequence[str]) -> list[str]:
-    plain = [net.lanes[k].edge for k in lanes if net.lanes[k].function != "internal"]
-    return list(dict.fromkeys(plain))
-
-
-def _incident_edges(net: Network) -> dict[str, list[str]]:
-    out: dict[str, list[str]] = {}
-    for e in net.edges.values():
-        if e.function == "internal":
-            continue
-        out.setdefault(e.from_junction, []).append(e.id)
-        out.setdefault(e.to_junction, []).append(e.id)
-    return out
-
-
-def _junctions_of(net: Network, curve: Curve) -> list[str]:
-    if curve.kind == "bend":
-        edge = net.edges[net.lanes[curve.core_lanes[0]].edge]
-        return [edge.from_junction, edge.to_junction]
-    out = [junction_of_internal(k) for k in curve.core_lanes if k.startswith(":")]
-    if curve.kind == "ramp":
-        for k in curve.core_lanes:
-            if not k.startswith(":"):
-                e = net.edges[net.lanes[k].edge]
-                out.extend((e.from_junction, e.to_junction))
-    return [j for j in dict.fromkeys(out) if j in net.junctions]
-
-
-def _internal_lanes_by_junction(net: Network) -> dict[str, list[str]]:
-    """Every internal lane under the junction it belongs to (also those after an internal
-    junction, which the junction's ``intLanes`` may not list)."""
-    out: dict[str, list[str]] = {}
-    for k, lane in net.lanes.items():
-        if lane.function == "internal":
-            out.setdefault(junction_of_internal(k), []).append(k)
-    return out
+#: Paved areas of up to this many pieces and polygons are unioned pairwise (see
+#: :func:`_union_rows`; a junction of four two-way edges has nine).
+PAIRWISE_MAX = 16

@@ -30,6 +30,7 @@ import logging
 import math
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
 
 import numpy as np
 from shapely.geometry.base import BaseGeometry
@@ -46,6 +47,9 @@ from networks.paths import PathPlan, junction_of_internal, plan_path, realise, v
 from networks.profiles import profiles
 from networks.reader import Network, gc_paused
 from vehicles.errors import InputError
+
+if TYPE_CHECKING:
+    from networks.area_book import AreaBook
 
 log = logging.getLogger(__name__)
 
@@ -93,9 +97,14 @@ class Curve:
         Largest grade and largest algebraic change of grade over the feature and 3 m
         either side (see :func:`networks.geometry.grades_pct`).
     own_lanes, roadway, paved
-        Shapely areas: the curve's lanes (its centre line buffered by half the lane
-        width), the same-direction roadway, the paved area (see :mod:`networks.areas`).
-        ``None`` when areas were not requested.
+        Shapely areas (properties): the curve's lanes (its centre line buffered by half
+        the lane width), the same-direction roadway, the paved area (see
+        :mod:`networks.areas`). ``None`` when areas were not requested. Curves from
+        :func:`extract_curves` build them on first use, a batch of curves at a time, and
+        release them again (see :mod:`networks.area_book`).
+    area_book, area_batch
+        The :class:`~networks.area_book.AreaBook` that builds the areas, and the curve's
+        batch in it (None and -1 when the areas are set for good or not requested).
     """
 
     curve_id: str
@@ -114,9 +123,44 @@ class Curve:
     lane_width_m: float
     max_grade_pct: float
     max_grade_change_pct: float
-    own_lanes: BaseGeometry | None = field(default=None, repr=False)
-    roadway: BaseGeometry | None = field(default=None, repr=False)
-    paved: BaseGeometry | None = field(default=None, repr=False)
+    area_book: AreaBook | None = field(default=None, init=False, repr=False)
+    area_batch: int = field(default=-1, init=False, repr=False)
+    _own: BaseGeometry | None = field(default=None, init=False, repr=False)
+    _roadway: BaseGeometry | None = field(default=None, init=False, repr=False)
+    _paved: BaseGeometry | None = field(default=None, init=False, repr=False)
+
+    @property
+    def own_lanes(self) -> BaseGeometry | None:
+        """The curve's lanes: its centre line buffered by half the lane width."""
+        if self._own is None and self.area_book is not None:
+            self.area_book.load(self.area_batch)
+        return self._own
+
+    @property
+    def roadway(self) -> BaseGeometry | None:
+        """The same-direction roadway (see :mod:`networks.areas`)."""
+        if self._roadway is None and self.area_book is not None:
+            self.area_book.load(self.area_batch)
+        return self._roadway
+
+    @property
+    def paved(self) -> BaseGeometry | None:
+        """The paved area (see :mod:`networks.areas`)."""
+        if self._paved is None and self.area_book is not None:
+            self.area_book.load(self.area_batch)
+        return self._paved
+
+    def set_areas(
+        self,
+        own_lanes: BaseGeometry | None,
+        roadway: BaseGeometry | None,
+        paved: BaseGeometry | None,
+        book: AreaBook | None = None,
+    ) -> None:
+        """Give the curve its three areas. Without ``book`` they are the curve's for good;
+        with it, they are that book's to release (and to build again when asked)."""
+        self._own, self._roadway, self._paved = own_lanes, roadway, paved
+        self.area_book = book
 
 
 @dataclass(frozen=True)
@@ -464,7 +508,10 @@ def extract_curves(
     options
         Extraction parameters (approach length, fitting window, thresholds).
     areas
-        Also build the three shapely areas of each curve (:mod:`networks.areas`).
+        Give each curve its three shapely areas (:mod:`networks.areas`). They are built
+        on first use, for a batch of curves at a time, and at most a few batches are kept
+        (:class:`networks.area_book.AreaBook`); :func:`networks.areas.attach_areas` builds
+        and keeps them all at once.
 
     Raises
     ------
@@ -496,7 +543,7 @@ def _extract(net: Network, wanted: list[str], opts: CurveOptions, areas: bool) -
     order = {k: i for i, k in enumerate(KINDS)}
     curves.sort(key=lambda c: (order[c.kind], c.curve_id))
     if areas:
-        from networks.areas import attach_areas
+        from networks.area_book import AreaBook
 
-        attach_areas(net, curves)
+        AreaBook(net, curves)  # the areas are built when first read
     return curves

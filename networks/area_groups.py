@@ -1,0 +1,293 @@
+"""Which lanes and junction polygons make up each curve's ``roadway`` and ``paved`` area.
+
+The areas (DESIGN.md §6, :mod:`networks.areas`) are unions of *members*, named by keys:
+
+``L:<lane>``
+    One lane's polygon (round ends, grown by :data:`~networks.areas.SEAL_M`).
+``J:<junction>``
+    A junction polygon (grown likewise).
+``ER:<edge>`` / ``EA:<edge>``
+    The union of an edge's road lanes / of all its lanes (a *piece*).
+``M:<a>><b>``
+    The union of the internal road lanes of the connections from edge ``a`` to edge ``b``
+    (the parallel lanes of one movement; a piece).
+
+:class:`BatchPlan` registers the curves of one batch, gives each the number of its roadway
+group and of its paved group (curves with the same members share one), and lists the
+lanes, junction polygons and pieces those groups need. A group's members are kept in a
+fixed order (lanes and junction polygons, then pieces, each by key), so that an area is
+the same union in the same order whichever batch builds it.
+:class:`AreaIndex` holds what every batch of a network looks up (the plain edges at each
+junction, the internal lanes of each junction).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from typing import TYPE_CHECKING
+
+from networks.paths import junction_of_internal, via_lanes
+from networks.reader import ROAD_VCLASSES, Network
+
+if TYPE_CHECKING:
+    from networks.curves import Curve
+
+
+class AreaIndex:
+    """The topology every batch of a network's areas looks up (made once per network).
+
+    Attributes
+    ----------
+    net
+        The network.
+    incident
+        Junction id -> the plain (not internal) edges that start or end there.
+    internal
+        Junction id -> every internal lane under it (also those after an internal junction,
+        which the junction's ``intLanes`` may not list).
+    """
+
+    def __init__(self, net: Network):
+        self.net = net
+        self.incident: dict[str, list[str]] = {}
+        for e in net.edges.values():
+            if e.function == "internal":
+                continue
+            self.incident.setdefault(e.from_junction, []).append(e.id)
+            self.incident.setdefault(e.to_junction, []).append(e.id)
+        self.internal: dict[str, list[str]] = {}
+        for k, lane in net.lanes.items():
+            if lane.function == "internal":
+                self.internal.setdefault(junction_of_internal(k), []).append(k)
+
+
+def is_road(net: Network, lane_id: str) -> bool:
+    """True when passenger cars, buses or trucks may use the lane (a road lane)."""
+    return not net.lanes[lane_id].allowed.isdisjoint(ROAD_VCLASSES)
+
+
+def plain_edges_of(net: Network, lanes: Sequence[str]) -> tuple[str, ...]:
+    """The plain edges a lane sequence runs on, in order, each once.
+
+    Examples
+    --------
+    >>> from types import SimpleNamespace as NS
+    >>> net = NS(lanes={"a_0": NS(edge="a", function="normal"), ":J_0_0": NS(edge=":J_0",
+    ...     function="internal"), "b_0": NS(edge="b", function="normal")})
+    >>> plain_edges_of(net, ["a_0", ":J_0_0", "b_0"])
+    ('a', 'b')
+    """
+    lanes_of = net.lanes
+    out: dict[str, None] = {}
+    for k in lanes:
+        lane = lanes_of[k]
+        if lane.function != "internal":
+            out[lane.edge] = None
+    return tuple(out)
+
+
+def junctions_of(net: Network, curve: Curve) -> tuple[str, ...]:
+    """The junctions a curve's feature passes through (its paved neighbourhood).
+
+    A bend: the two junctions of its edge; a turn or roundabout: the junctions of its
+    internal lanes; a ramp: those and the junctions of its plain edges.
+    """
+    if curve.kind == "bend":
+        edge = net.edges[net.lanes[curve.core_lanes[0]].edge]
+        out = [edge.from_junction, edge.to_junction]
+    else:
+        out = [junction_of_internal(k) for k in curve.core_lanes if k.startswith(":")]
+        if curve.kind == "ramp":
+            for k in curve.core_lanes:
+                if not k.startswith(":"):
+                    e = net.edges[net.lanes[k].edge]
+                    out.extend((e.from_junction, e.to_junction))
+    junctions = net.junctions
+    return tuple(j for j in dict.fromkeys(out) if j in junctions)
+
+
+class BatchPlan:
+    """The groups (and what they are made of) of one batch of curves.
+
+    Call :meth:`add` for each curve; then :attr:`pieces`, :attr:`road_groups` and
+    :attr:`paved_groups` say what to build (:func:`networks.areas.build_areas`).
+
+    Attributes
+    ----------
+    pieces
+        Piece key -> its lanes, in a fixed order.
+    road_groups, paved_groups
+        Members (sorted keys) of each group, by group number.
+    """
+
+    def __init__(self, index: AreaIndex):
+        self.index = index
+        self.net = index.net
+        self.pieces: dict[str, tuple[str, ...]] = {}
+        self.road_groups: list[tuple[str, ...]] = []
+        self.paved_groups: list[tuple[str, ...]] = []
+        self._road_ids: dict[frozenset[str], int] = {}
+        self._paved_ids: dict[frozenset[str], int] = {}
+        self._road_of: dict[tuple, int] = {}
+        self._paved_of: dict[tuple, int] = {}
+        self._road_pieces: dict[tuple[str, ...], tuple[list[str], frozenset[str]]] = {}
+        self._near: dict[tuple[str, ...], frozenset[str]] = {}
+        self._junction: dict[str, frozenset[str]] = {}
+        self._movements: dict[str, dict[str, list[str]]] = {}
+
+    def add(self, curve: Curve) -> tuple[int, int]:
+        """Register a curve; return the numbers of its roadway group and paved group."""
+        plain = plain_edges_of(self.net, curve.lanes)
+        return self._roadway(curve, plain), self._paved(curve, plain)
+
+    # pieces --------------------------------------------------------------------------
+    def _piece(self, key: str, lanes: Sequence[str]) -> str | None:
+        if key not in self.pieces:
+            if not lanes:
+                return None
+            self.pieces[key] = tuple(lanes)
+        return key
+
+    def edge_piece(self, edge: str, road_only: bool) -> str | None:
+        """``ER:edge`` (its road lanes) or ``EA:edge`` (all its lanes); None if empty."""
+        key = ("ER:" if road_only else "EA:") + edge
+        if key in self.pieces:
+            return key
+        lanes = self.net.edges[edge].lanes
+        if road_only:
+            lanes = [k for k in lanes if is_road(self.net, k)]
+        return self._piece(key, lanes)
+
+    def movement_piece(self, a: str, b: str) -> str | None:
+        """``M:a>b``: the internal road lanes of the connections from ``a`` to ``b``."""
+        key = f"M:{a}>{b}"
+        if key in self.pieces:
+            return key
+        return self._piece(key, self.movements(a).get(b, ()))
+
+    def movements(self, a: str) -> dict[str, list[str]]:
+        """Edge ``b`` -> the internal road lanes from ``a`` to ``b`` (in the order of
+        ``a``'s lanes and their connections), for every ``b`` that ``a`` connects to."""
+        hit = self._movements.get(a)
+        if hit is None:
+            net = self.net
+            hit = self._movements[a] = {}
+            for lane_id in net.edges[a].lanes:
+                for c in net.outgoing(lane_id):
+                    lanes = hit.setdefault(c.to_edge, [])
+                    if c.via:
+                        lanes.extend(
+                            k for k in via_lanes(net, c) or []
+                            if k not in lanes and is_road(net, k)
+                        )
+        return hit
+
+    # roadway -------------------------------------------------------------------------
+    def _roadway(self, curve: Curve, plain: tuple[str, ...]) -> int:
+        hit = self._road_pieces.get(plain)
+        if hit is None:
+            keys = [self.edge_piece(e, True) for e in plain]
+            keys += [self.movement_piece(a, b) for a, b in zip(plain, plain[1:], strict=False)]
+            found = [k for k in keys if k]
+            covered = frozenset(x for k in found for x in self.pieces[k])
+            hit = self._road_pieces[plain] = (found, covered)
+        keys, covered = hit
+        # a lane of the curve in no piece (e.g. a ring passage without a connection)
+        extra = tuple(k for k in curve.lanes if k not in covered)
+        key = (plain, extra)
+        group = self._road_of.get(key)
+        if group is None:
+            members = frozenset([*keys, *("L:" + k for k in extra)])
+            group = self._road_of[key] = _number(members, self._road_ids, self.road_groups)
+        return group
+
+    # paved ---------------------------------------------------------------------------
+    def _paved(self, curve: Curve, plain: tuple[str, ...]) -> int:
+        net = self.net
+        junctions = junctions_of(net, curve)
+        near = self._near.get(junctions)
+        if near is None:
+            edges: set[str] = set()
+            for j in junctions:
+                edges.update(self.index.incident.get(j, ()))
+            near = self._near[junctions] = frozenset(edges)
+        lanes = net.lanes
+        extra = tuple(
+            k for k in curve.lanes
+            if not k.startswith(":") and lanes[k].edge not in near and lanes[k].edge not in plain
+        )
+        edges = net.edges
+        if not extra and all(e in near for e in plain) and all(
+            edges[a].to_junction in junctions for a in plain[:-1]
+        ):
+            key: tuple = (junctions,)  # its junctions' areas cover it all (the usual case)
+        else:
+            key = (junctions, plain, extra)
+        group = self._paved_of.get(key)
+        if group is None:
+            members = frozenset(self._paved_members(junctions, near, plain, extra))
+            group = self._paved_of[key] = _number(members, self._paved_ids, self.paved_groups)
+        return group
+
+    def _paved_members(
+        self,
+        junctions: tuple[str, ...],
+        near: frozenset[str],
+        plain: tuple[str, ...],
+        extra: tuple[str, ...],
+    ) -> set[str]:
+        members: set[str] = set()
+        for j in junctions:
+            members |= self.junction(j)
+        for e in plain:
+            if e not in near:
+                members.add(self.edge_piece(e, False) or "")
+        edges = self.net.edges
+        for a, b in zip(plain, plain[1:], strict=False):
+            if edges[a].to_junction not in junctions:
+                members.add(self.movement_piece(a, b) or "")
+        members.update("L:" + k for k in extra)  # lanes of the curve nothing above covers
+        members.discard("")
+        return members
+
+    def junction(self, j: str) -> frozenset[str]:
+        """Members of a junction's paved area: its polygon, every lane of its plain edges,
+        the movements into it and its other internal lanes."""
+        hit = self._junction.get(j)
+        if hit is not None:
+            return hit
+        net = self.net
+        keys = {"J:" + j}
+        in_movements: set[str] = set()
+        for e in self.index.incident.get(j, []):
+            keys.add(self.edge_piece(e, False) or "")
+            if net.edges[e].to_junction == j:
+                for b in sorted(self.movements(e)):
+                    key = self.movement_piece(e, b) if b in net.edges else None
+                    if key:
+                        keys.add(key)
+                        in_movements.update(self.pieces[key])
+        keys.update("L:" + k for k in self.index.internal.get(j, []) if k not in in_movements)
+        keys.discard("")
+        hit = self._junction[j] = frozenset(keys)
+        return hit
+
+
+def _number(members: frozenset[str], ids: dict[frozenset[str], int], out: list) -> int:
+    """The number of a group by its members (a new one gets the next number)."""
+    n = ids.get(members)
+    if n is None:
+        n = ids[members] = len(out)
+        out.append(tuple(sorted(members, key=_member_order)))
+    return n
+
+
+def _member_order(key: str) -> tuple[bool, str]:
+    """Lanes and junction polygons first, then pieces; by key within each.
+
+    Examples
+    --------
+    >>> sorted(["M:a>b", "ER:a", "L:x_0", "J:B"], key=_member_order)
+    ['J:B', 'L:x_0', 'ER:a', 'M:a>b']
+    """
+    return (key[0] not in "LJ", key)
