@@ -428,15 +428,14 @@ def end_boxes(path: Path, reach_m: float) -> BaseGeometry:
     >>> shapely.difference(shapely.box(1.0, -1.0, 9.0, 1.0), boxes).area
     16.0
     """
-    boxes = []
-    for point, heading, direction in ((path.xy[0], path.heading_rad[0], -1.0),
-                                      (path.xy[-1], path.heading_rad[-1], 1.0)):
-        u = direction * np.array([math.cos(heading), math.sin(heading)])
-        n = np.array([-u[1], u[0]])
-        corners = np.array([point + reach_m * n, point - reach_m * n,
-                            point - reach_m * n + reach_m * u, point + reach_m * n + reach_m * u])
-        boxes.append(shapely.polygons(corners))
-    return shapely.union_all(boxes)
+    point = path.xy[[0, -1]]  # both ends at once: behind the start, past the end
+    heading = path.heading_rad[[0, -1]]
+    u = np.array([[-1.0], [1.0]]) * np.stack([np.cos(heading), np.sin(heading)], axis=1)
+    n = np.stack([-u[:, 1], u[:, 0]], axis=1)
+    corners = np.stack([point + reach_m * n, point - reach_m * n,
+                        point - reach_m * n + reach_m * u, point + reach_m * n + reach_m * u],
+                       axis=1)
+    return shapely.union_all(shapely.polygons(corners))
 
 
 @dataclass(frozen=True)

@@ -332,24 +332,28 @@ def wheel_tracks(vehicle: Vehicle, traj: Trajectory) -> dict[str, shapely.LineSt
     >>> round(tracks["front_left"].length, 9), tracks["rear_right"].coords[0]
     (10.0, (-2.7, -0.75))
     """
-    nx, ny = -np.sin(traj.theta_rad), np.cos(traj.theta_rad)
+    names = ["front_left", "front_right", "rear_left", "rear_right"]
     half = vehicle.track_m / 2
-    pts = {
-        "front_left": (traj.xf_m + half * nx, traj.yf_m + half * ny),
-        "front_right": (traj.xf_m - half * nx, traj.yf_m - half * ny),
-        "rear_left": (traj.x_m + half * nx, traj.y_m + half * ny),
-        "rear_right": (traj.x_m - half * nx, traj.y_m - half * ny),
-    }
+    cx, cy = [traj.xf_m, traj.xf_m, traj.x_m, traj.x_m], [traj.yf_m, traj.yf_m, traj.y_m, traj.y_m]
+    side = [half, -half, half, -half]
+    heading = [traj.theta_rad] * 4
     if vehicle.trailer is not None and traj.theta_t_rad is not None:
         ht = min(vehicle.track_m, vehicle.trailer.width_m) / 2
-        tnx, tny = -np.sin(traj.theta_t_rad), np.cos(traj.theta_t_rad)
-        pts["trailer_left"] = (traj.xt_m + ht * tnx, traj.yt_m + ht * tny)
-        pts["trailer_right"] = (traj.xt_m - ht * tnx, traj.yt_m - ht * tny)
-    coords = np.stack([np.stack(p, axis=-1) for p in pts.values()])
+        names += ["trailer_left", "trailer_right"]
+        cx += [traj.xt_m] * 2
+        cy += [traj.yt_m] * 2
+        side += [ht, -ht]
+        heading += [traj.theta_t_rad] * 2
+    th = np.array(heading)
+    off = np.array(side)[:, None]
+    # each wheel at +-its half track along the unit's left normal (-sin, cos)
+    coords = np.empty((len(names), th.shape[1], 2))
+    coords[:, :, 0] = np.array(cx) + off * -np.sin(th)
+    coords[:, :, 1] = np.array(cy) + off * np.cos(th)
     if coords.shape[1] == 1:
         coords = np.concatenate([coords, coords], axis=1)
     lines = shapely.linestrings(coords)
-    return dict(zip(pts, lines, strict=True))
+    return dict(zip(names, lines, strict=True))
 
 
 def ring_segments(geom: BaseGeometry) -> tuple[FloatArray, FloatArray]:

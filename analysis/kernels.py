@@ -282,26 +282,28 @@ def vertex_path_bounds(px: np.ndarray,
     n, m = px.shape
     length = np.zeros(n)
     turn = np.zeros(n)
-    prev_h = np.zeros(m)
+    prev_dx = np.zeros(m)
+    prev_dy = np.zeros(m)
     prev_moving = np.zeros(m, dtype=np.bool_)
     for k in range(n - 1):
-        longest = 0.0
+        longest2 = 0.0
         sharpest = 0.0
         for v in range(m):
             dx = px[k + 1, v] - px[k, v]
             dy = py[k + 1, v] - py[k, v]
-            chord = math.hypot(dx, dy)
-            if chord > longest:
-                longest = chord
-            moving = chord > 1e-12
-            h = math.atan2(dy, dx)
+            chord2 = dx * dx + dy * dy
+            if chord2 > longest2:
+                longest2 = chord2
+            moving = chord2 > 1e-24  # a step over 1e-12 m
             if k > 0 and moving and prev_moving[v]:
-                bend = abs((h - prev_h[v] + math.pi) % (2.0 * math.pi) - math.pi)
+                # the angle between this step and the previous one (0 .. pi)
+                bend = math.atan2(abs(prev_dx[v] * dy - prev_dy[v] * dx),
+                                  prev_dx[v] * dx + prev_dy[v] * dy)
                 if bend > sharpest:
                     sharpest = bend
-            prev_h[v] = h
+            prev_dx[v], prev_dy[v] = dx, dy
             prev_moving[v] = moving
-        length[k + 1] = length[k] + longest
+        length[k + 1] = length[k] + math.sqrt(longest2)
         if k > 0:
             turn[k + 1] = turn[k] + sharpest
     return length, turn

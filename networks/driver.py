@@ -430,7 +430,9 @@ class _SumoSession:
         own = d.curve.own_lanes
         # the model's samples SUMO shows: one per SUMO step, and the last
         n = len(run.trajectory.t_s)
-        at = np.unique(np.append(np.arange(0, n, self.every), n - 1))
+        at = np.arange(0, n, self.every)
+        if at[-1] != n - 1:
+            at = np.append(at, n - 1)
         x, y = (c[at] for c in front_bumper(run))
         angle = np.asarray(heading_rad_to_navigational(run.trajectory.theta_rad[at]))
         edges, lanes = self._hints(d.curve,

@@ -144,3 +144,21 @@ def test_farthest_from_segments_is_the_same_search_as_farthest_on_lines() -> Non
         # and a reach shorter than the farthest probe asks the caller to take over
         assert np.isnan(farthest_from_segments(coords, part[1:] == part[:-1], segs, 0.01,
                                                0.5 * got))
+
+
+def test_vertex_path_bounds_match_a_numpy_reference_on_random_paths() -> None:
+    # longest step and sharpest turning (the wrapped change of each vertex's step heading)
+    n, m = 120, 5
+    px, py = np.cumsum(RNG.normal(0, 0.3, (n, m)), axis=0), np.cumsum(RNG.normal(0, 0.3, (n, m)), 0)
+    px[40:45] = px[40]  # a vertex standing still for a while turns by 0 there
+    py[40:45] = py[40]
+    dx, dy = np.diff(px, axis=0), np.diff(py, axis=0)
+    step = np.hypot(dx, dy)
+    h = np.arctan2(dy, dx)
+    bend = np.abs((np.diff(h, axis=0) + np.pi) % (2 * np.pi) - np.pi)
+    bend[(step[1:] <= 1e-12) | (step[:-1] <= 1e-12)] = 0.0
+    length, turn = vertex_path_bounds(px, py)
+    assert length == pytest.approx(np.concatenate([[0.0], np.cumsum(step.max(axis=1))]),
+                                   rel=1e-12)
+    assert turn == pytest.approx(np.concatenate([[0.0, 0.0], np.cumsum(bend.max(axis=1))]),
+                                 abs=1e-9)
