@@ -43,9 +43,10 @@ from networks.geometry import (
     radius_from_curvature,
     unwrap,
 )
+from networks.lane_table import LaneTable
 from networks.paths import PathPlan, junction_of_internal, plan_path, realise, via_lanes
-from networks.profiles import profiles
-from networks.reader import Network, gc_paused
+from networks.profiles import Stations, profiles
+from networks.reader import ROAD_VCLASSES, Network, gc_paused
 from vehicles.errors import InputError
 
 if TYPE_CHECKING:
@@ -79,10 +80,11 @@ class Curve:
         (N, 3) x, y, z in metres (SUMO plane coordinates).
     core_start_m, core_end_m
         Where the feature begins and ends along the centre line (plane arc length).
-    profile_s_m, profile_radius_m
+    stations, profile_s_m, profile_radius_m
         Radius fitted over arc length at stations every ``step_m`` over the feature and a
-        fitting window either side (``inf`` where straight). ``profile_s_m`` is measured
-        along ``centerline``.
+        fitting window either side (``inf`` where straight). ``profile_s_m`` (a property:
+        an array made from the four numbers of ``stations`` when asked) is measured along
+        ``centerline``.
     min_radius_m
         Smallest radius over the feature (the CSV's ``min_radius``).
     turn_angle_deg
@@ -115,7 +117,7 @@ class Curve:
     centerline: np.ndarray
     core_start_m: float
     core_end_m: float
-    profile_s_m: np.ndarray
+    stations: Stations
     profile_radius_m: np.ndarray
     min_radius_m: float
     turn_angle_deg: float
@@ -128,6 +130,11 @@ class Curve:
     _own: BaseGeometry | None = field(default=None, init=False, repr=False)
     _roadway: BaseGeometry | None = field(default=None, init=False, repr=False)
     _paved: BaseGeometry | None = field(default=None, init=False, repr=False)
+
+    @property
+    def profile_s_m(self) -> np.ndarray:
+        """Arc length of each station of the radius profile (made from :attr:`stations`)."""
+        return self.stations.array()
 
     @property
     def own_lanes(self) -> BaseGeometry | None:
@@ -185,18 +192,22 @@ Item = tuple[str, str, str, PathPlan]
 MEASURE_BATCH = 20000
 
 
-def measure(net: Network, items: Sequence[Item], opts: CurveOptions) -> list[Curve]:
+def measure(
+    net: Network, items: Sequence[Item], opts: CurveOptions, table: LaneTable | None = None
+) -> list[Curve]:
     """Measure paths in batches: radius profile, turn angle, grades, width of the core."""
     out: list[Curve] = []
     for lo in range(0, len(items), MEASURE_BATCH):
-        out.extend(_measure(net, items[lo : lo + MEASURE_BATCH], opts))
+        out.extend(_measure(net, items[lo : lo + MEASURE_BATCH], opts, table))
     return out
 
 
-def _measure(net: Network, items: Sequence[Item], opts: CurveOptions) -> list[Curve]:
+def _measure(
+    net: Network, items: Sequence[Item], opts: CurveOptions, table: LaneTable | None
+) -> list[Curve]:
     if not items:
         return []
-    paths = realise(net, [it[3] for it in items])
+    paths = realise(net, [it[3] for it in items], table)
     prof = profiles(
         [p.centerline for p in paths],
         [p.core_start_m for p in paths],
@@ -206,37 +217,34 @@ def _measure(net: Network, items: Sequence[Item], opts: CurveOptions) -> list[Cu
     )
     curves = []
     w = opts.grade_window_m
-    for n, ((cid, kind, junction, _), path) in enumerate(zip(items, paths, strict=True)):
+    sloped = _sloped([p.centerline for p in paths])
+    lanes = net.lanes
+    for n, ((cid, kind, junction, _), path, min_r, turn, slope) in enumerate(zip(
+        items, paths, prof.min_radius_m.tolist(), prof.turn_deg.tolist(), sloped, strict=True
+    )):
         line = path.centerline
         a, b = path.core_start_m, path.core_end_m
-        z = line[:, 2]
-        if z.min() == z.max():
-            g = dg = 0.0
-        else:
-            g, dg = grades_pct(line, a - w, b + w, w)
-        lanes = net.lanes
-        width = min(lanes[x].width_m for x in (path.core_lanes or path.lanes))
-        curves.append(
-            Curve(
-                curve_id=cid,
-                kind=kind,
-                junction=junction,
-                lanes=path.lanes,
-                core_lanes=path.core_lanes,
-                centerline=line,
-                core_start_m=a,
-                core_end_m=b,
-                profile_s_m=prof.s_m[n],
-                profile_radius_m=prof.radius_m[n],
-                min_radius_m=float(prof.min_radius_m[n]),
-                turn_angle_deg=float(prof.turn_deg[n]),
-                length_m=b - a,
-                lane_width_m=float(width),
-                max_grade_pct=g,
-                max_grade_change_pct=dg,
-            )
-        )
+        g, dg = grades_pct(line, a - w, b + w, w) if slope else (0.0, 0.0)
+        width = float(min(lanes[x].width_m for x in (path.core_lanes or path.lanes)))
+        curves.append(Curve(
+            cid, kind, junction, path.lanes, path.core_lanes, line, a, b, prof.stations[n],
+            prof.radius_m[n], min_r, turn, b - a, width, g, dg,
+        ))
     return curves
+
+
+def _sloped(lines: Sequence[np.ndarray]) -> list[bool]:
+    """For each line, whether its z varies (vectorised over the lines).
+
+    Examples
+    --------
+    >>> _sloped([np.zeros((2, 3)), np.array([[0, 0, 0], [1, 0, 0.5]])])
+    [False, True]
+    """
+    z = np.concatenate([x[:, 2] for x in lines])
+    counts = np.fromiter(map(len, lines), dtype=np.int64, count=len(lines))
+    first = np.concatenate(([0], np.cumsum(counts)[:-1]))
+    return (np.minimum.reduceat(z, first) != np.maximum.reduceat(z, first)).tolist()
 
 
 def make_curve(
@@ -251,7 +259,9 @@ def _road_lane(net: Network, lane_id: str) -> bool:
     return lane is not None and lane.allows_road_vehicles()
 
 
-def find_turns(net: Network, opts: CurveOptions) -> Iterable[Item]:
+def find_turns(
+    net: Network, opts: CurveOptions, table: LaneTable | None = None
+) -> Iterable[Item]:
     """Yield one ``turn`` per connection through a junction's internal lanes."""
     if not net.has_internal_lanes:
         log.warning(
@@ -261,15 +271,17 @@ def find_turns(net: Network, opts: CurveOptions) -> Iterable[Item]:
         )
         return
     ring_nodes = {n for r in net.roundabouts for n in r.nodes}
+    lanes = net.lanes
+    approach = opts.approach_length_m
+    junction_ids: dict[str, str] = {}  # one string per junction, shared by its turns
     for conn in net.connections:
         if not conn.via or conn.from_edge.startswith(":"):
             continue
         from_lane, to_lane = conn.from_lane, conn.to_lane
-        if from_lane not in net.lanes or to_lane not in net.lanes:
+        a, b = lanes.get(from_lane), lanes.get(to_lane)
+        if a is None or b is None or a.function == "internal":
             continue
-        if not (_road_lane(net, from_lane) and _road_lane(net, to_lane)):
-            continue
-        if net.lanes[from_lane].function == "internal":
+        if a.allowed.isdisjoint(ROAD_VCLASSES) or b.allowed.isdisjoint(ROAD_VCLASSES):
             continue
         vias = via_lanes(net, conn)
         if not vias:
@@ -277,13 +289,14 @@ def find_turns(net: Network, opts: CurveOptions) -> Iterable[Item]:
         junction = junction_of_internal(vias[0])
         if junction in ring_nodes:
             continue
-        path = plan_path(
-            net, [from_lane], vias, [to_lane], opts.approach_length_m, opts.approach_length_m
-        )
+        junction = junction_ids.setdefault(junction, junction)
+        path = plan_path(net, [from_lane], vias, [to_lane], approach, approach, table=table)
         yield (f"turn:{junction}:{from_lane}->{to_lane}", "turn", junction, path)
 
 
-def find_roundabouts(net: Network, opts: CurveOptions) -> Iterable[Item]:
+def find_roundabouts(
+    net: Network, opts: CurveOptions, table: LaneTable | None = None
+) -> Iterable[Item]:
     """Yield one ``roundabout`` curve per entry edge → exit edge of each ring."""
     import heapq
 
@@ -308,7 +321,7 @@ def find_roundabouts(net: Network, opts: CurveOptions) -> Iterable[Item]:
                 continue
             # Dijkstra over lanes from the entry lane, through ring lanes only
             start = [*(via_lanes(net, conn) or []), conn.to_lane]
-            heap = [(sum(lane_length(net, x) for x in start), 0, start)]
+            heap = [(sum(lane_length(net, x, table) for x in start), 0, start)]
             done: set[str] = set()
             counter = 1
             while heap:
@@ -323,7 +336,7 @@ def find_roundabouts(net: Network, opts: CurveOptions) -> Iterable[Item]:
                     step = [*(via_lanes(net, nxt) or []), nxt.to_lane]
                     if nxt.to_edge in ring_edges:
                         if len(lanes) < 400:
-                            d = dist + sum(lane_length(net, x) for x in step)
+                            d = dist + sum(lane_length(net, x, table) for x in step)
                             heapq.heappush(heap, (d, counter, lanes + step))
                             counter += 1
                         continue
@@ -339,6 +352,7 @@ def find_roundabouts(net: Network, opts: CurveOptions) -> Iterable[Item]:
                 [lanes[-1]],
                 opts.approach_length_m,
                 opts.approach_length_m,
+                table=table,
             )
             cid = f"roundabout:{entry_node}:{lanes[0]}->{lanes[-1]}"
             yield (cid, "roundabout", entry_node, path)
@@ -347,6 +361,8 @@ def find_roundabouts(net: Network, opts: CurveOptions) -> Iterable[Item]:
 def _edge_grade_pct(net: Network, edge_id: str) -> float:
     edge = net.edges[edge_id]
     shape = net.lanes[edge.lanes[0]].shape
+    if shape[-1, 2] == shape[0, 2]:
+        return 0.0  # level ends (as below, without measuring the length)
     s = arc_length(shape)
     if s[-1] <= 0:
         return 0.0
@@ -428,7 +444,9 @@ def _follow_lanes(net: Network, lane_id: str, chain: list[str]) -> list[str] | N
     return lanes
 
 
-def find_bends(net: Network, opts: CurveOptions, skip_edges: set[str]) -> Iterable[Item]:
+def find_bends(
+    net: Network, opts: CurveOptions, skip_edges: set[str], table: LaneTable | None = None
+) -> Iterable[Item]:
     """Yield ``bend`` curves: tight curved stretches inside plain lanes."""
     min_turn = math.radians(opts.bend_min_turn_deg)
     ring_edges = {e for r in net.roundabouts for e in r.edges}
@@ -457,6 +475,7 @@ def find_bends(net: Network, opts: CurveOptions, skip_edges: set[str]) -> Iterab
                     opts.approach_length_m,
                     float(s[i]),
                     float(s[j - 1]),
+                    table=table,
                 )
                 junction = net.edges[edge_id].from_junction
                 yield (f"bend:{lane_id}:{n}", "bend", junction, path)
@@ -529,17 +548,18 @@ def extract_curves(
 
 def _extract(net: Network, wanted: list[str], opts: CurveOptions, areas: bool) -> list[Curve]:
     curves: list[Curve] = []
+    table = LaneTable(net)  # every lane's shape and length, for this extraction only
     if "turn" in wanted:
-        curves.extend(measure(net, list(find_turns(net, opts)), opts))
+        curves.extend(measure(net, list(find_turns(net, opts, table)), opts, table))
     if "roundabout" in wanted:
-        curves.extend(measure(net, list(find_roundabouts(net, opts)), opts))
+        curves.extend(measure(net, list(find_roundabouts(net, opts, table)), opts, table))
     ramp_edges: set[str] = set()
     if "ramp" in wanted or "bend" in wanted:
         ramps, ramp_edges = find_ramps(net, opts)
         if "ramp" in wanted:
             curves.extend(ramps)
     if "bend" in wanted:
-        curves.extend(measure(net, list(find_bends(net, opts, ramp_edges)), opts))
+        curves.extend(measure(net, list(find_bends(net, opts, ramp_edges, table)), opts, table))
     order = {k: i for i, k in enumerate(KINDS)}
     curves.sort(key=lambda c: (order[c.kind], c.curve_id))
     if areas:

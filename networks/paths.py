@@ -13,6 +13,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from networks.geometry import MIN_CHORD_M
+from networks.lane_table import LaneTable
 from networks.reader import Connection, Network
 
 #: Preference among connection directions when a path is extended (straight on first).
@@ -52,7 +53,8 @@ def via_lanes(net: Network, conn: Connection) -> list[str] | None:
         if via in out or via not in net.lanes or len(out) > 8:
             return None
         out.append(via)
-        nxt = [c for c in net.outgoing(via) if c.to_edge == conn.to_edge] or net.outgoing(via)
+        outs = net.outgoing(via)
+        nxt = [c for c in outs if c.to_edge == conn.to_edge] or outs
         if not nxt:
             return None
         via = nxt[0].via
@@ -68,7 +70,9 @@ def _is_internal(net: Network, lane_id: str) -> bool:
     return lane is None or lane.function == "internal"
 
 
-def extend_back(net: Network, lane_id: str, need_m: float) -> list[str]:
+def extend_back(
+    net: Network, lane_id: str, need_m: float, table: LaneTable | None = None
+) -> list[str]:
     """Lanes upstream of ``lane_id`` (farthest first) covering at least ``need_m`` metres.
 
     Follows the straightest connection into each lane (its internal lanes included);
@@ -90,12 +94,14 @@ def extend_back(net: Network, lane_id: str, need_m: float) -> list[str]:
         step = [conn.from_lane, *vias]
         out[:0] = step
         seen.update(step)
-        need_m -= sum(lane_length(net, k) for k in step)
+        need_m -= sum(lane_length(net, k, table) for k in step)
         cur = conn.from_lane
     return out
 
 
-def extend_forward(net: Network, lane_id: str, need_m: float) -> list[str]:
+def extend_forward(
+    net: Network, lane_id: str, need_m: float, table: LaneTable | None = None
+) -> list[str]:
     """Lanes downstream of ``lane_id`` (nearest first) covering at least ``need_m`` metres."""
     out: list[str] = []
     seen = {lane_id}
@@ -109,14 +115,22 @@ def extend_forward(net: Network, lane_id: str, need_m: float) -> list[str]:
         step = [*vias, conn.to_lane]
         out.extend(step)
         seen.update(step)
-        need_m -= sum(lane_length(net, k) for k in step)
+        need_m -= sum(lane_length(net, k, table) for k in step)
         cur = conn.to_lane
     return out
 
 
-def lane_length(net: Network, lane_id: str) -> float:
-    """Plane length of a lane's shape (metres)."""
-    return net.lane_line(lane_id)[1]
+def lane_length(net: Network, lane_id: str, table: LaneTable | None = None) -> float:
+    """Plane length of a lane's shape (metres; from ``table`` when given)."""
+    return table.length_m(lane_id) if table is not None else net.lane_line(lane_id)[1]
+
+
+def _total_length(net: Network, lanes: list[str], table: LaneTable | None) -> float:
+    """Sum of the lanes' plane lengths, added in order from 0."""
+    if table is None:
+        return sum(lane_length(net, k) for k in lanes)
+    length, index = table.lengths, table.index
+    return sum([length[index[k]] for k in lanes])
 
 
 @dataclass(slots=True)
@@ -165,6 +179,7 @@ def plan_path(
     exit_m: float,
     core_from_m: float = 0.0,
     core_to_m: float | None = None,
+    table: LaneTable | None = None,
 ) -> PathPlan:
     """Choose the lanes of a path: ``before`` + ``core`` + ``after``, extended as needed.
 
@@ -173,19 +188,19 @@ def plan_path(
     (less the part of the core lanes outside the core). ``core_from_m`` / ``core_to_m``
     place the core inside the concatenated core lanes (default: all of them).
     """
-    core_total = sum(net.lane_line(k)[1] for k in core)
+    core_total = _total_length(net, core, table)
     c_from = min(max(core_from_m, 0.0), core_total)
     c_to = core_total if core_to_m is None else min(max(core_to_m, c_from), core_total)
-    before_len = sum(lane_length(net, k) for k in before)
-    after_len = sum(lane_length(net, k) for k in after)
+    before_len = _total_length(net, before, table)
+    after_len = _total_length(net, after, table)
     need_back = approach_m - c_from - before_len
     if need_back > 0:
         first = before[0] if before else core[0]
-        before = extend_back(net, first, need_back) + before
+        before = extend_back(net, first, need_back, table) + before
     need_fwd = exit_m - (core_total - c_to) - after_len
     if need_fwd > 0:
         last = after[-1] if after else core[-1]
-        after = after + extend_forward(net, last, need_fwd)
+        after = after + extend_forward(net, last, need_fwd, table)
     return PathPlan(
         before + core + after, len(before), len(core), c_from, c_to, core_total, approach_m, exit_m
     )
@@ -194,18 +209,30 @@ def plan_path(
 _GAP = 10.0  # key distance between consecutive paths in a batch
 
 
-def realise(net: Network, plans: list[PathPlan]) -> list[Path]:
+def realise(net: Network, plans: list[PathPlan], table: LaneTable | None = None) -> list[Path]:
     """Make the centre lines of many planned paths at once (vectorised).
 
     Each centre line is its lanes' shapes joined, cut to ``approach_m`` before the core and
-    ``exit_m`` after it (where the lanes reach that far), without repeated points.
+    ``exit_m`` after it (where the lanes reach that far), without repeated points. With a
+    ``table`` (:class:`~networks.lane_table.LaneTable`), the lane shapes come from it and
+    the paths' lane ids are the network's own strings.
     """
     if not plans:
         return []
-    lane_lines = [net.lane_line(k)[0] for p in plans for k in p.lanes]
     n_pieces = np.array([len(p.lanes) for p in plans])
-    piece_counts = np.fromiter((len(x) for x in lane_lines), dtype=np.int64, count=len(lane_lines))
-    pts = np.concatenate(lane_lines)
+    if table is None:
+        lane_lines = [net.lane_line(k)[0] for p in plans for k in p.lanes]
+        piece_counts = np.fromiter(map(len, lane_lines), dtype=np.int64, count=len(lane_lines))
+        pts = np.concatenate(lane_lines)
+        names = None
+    else:
+        index = table.index
+        rows = np.fromiter(
+            (index[k] for p in plans for k in p.lanes), dtype=np.int64, count=int(n_pieces.sum())
+        )
+        pts, piece_counts = table.gather(rows)
+        ids = table.ids
+        names = [ids[i] for i in rows.tolist()]
     piece_first = np.concatenate(([0], np.cumsum(piece_counts)[:-1]))
     piece_last = piece_first + piece_counts - 1
     plan_first_piece = np.concatenate(([0], np.cumsum(n_pieces)[:-1]))
@@ -262,25 +289,19 @@ def realise(net: Network, plans: list[PathPlan]) -> list[Path]:
     keep[out_first[lonely] + sizes[lonely] - 1] = True
     kept[lonely] = 2
     cut = out[keep]
-    bounds = np.cumsum(kept)[:-1]
-    lines = np.split(cut, bounds)
+    ends_at = np.cumsum(kept).tolist()
+    lines = [cut[a:b] for a, b in zip([0, *ends_at[:-1]], ends_at, strict=True)]
     paths = []
     on_list = on.tolist()
     first_piece = plan_first_piece.tolist()
+    starts, ends = core_start - lo, np.minimum(core_end - lo, hi - lo)
+    starts_l, ends_l = starts.tolist(), ends.tolist()
     for c, plan in enumerate(plans):
         f = first_piece[c]
-        lanes = [k for i, k in enumerate(plan.lanes) if on_list[f + i]]
-        if not lanes:
-            lanes = plan.lanes[plan.n_before : plan.n_before + plan.n_core]
-        paths.append(
-            Path(
-                lanes=tuple(lanes),
-                centerline=lines[c],
-                core_start_m=float(core_start[c] - lo[c]),
-                core_end_m=float(min(core_end[c] - lo[c], hi[c] - lo[c])),
-                core_lanes=tuple(plan.lanes[plan.n_before : plan.n_before + plan.n_core]),
-            )
-        )
+        own = plan.lanes if names is None else names[f : f + len(plan.lanes)]
+        core = tuple(own[plan.n_before : plan.n_before + plan.n_core])
+        lanes = tuple(k for i, k in enumerate(own) if on_list[f + i]) or core
+        paths.append(Path(lanes, lines[c], starts_l[c], ends_l[c], core))
     return paths
 
 

@@ -31,11 +31,34 @@ CHUNK_LINES = 20000
 _GAP_M = 10.0  # key distance between consecutive lines
 
 
+@dataclass(frozen=True, slots=True)
+class Stations:
+    """Stations every ``step_m`` from ``start_m``, the last one no further than ``stop_m``:
+    ``s_i = min(start_m + step_m * i, stop_m)`` for ``i < count`` (four numbers instead of
+    an array; :meth:`array` gives the same floats the profile was computed at).
+
+    Examples
+    --------
+    >>> Stations(1.0, 2.1, 6, 0.25).array().tolist()
+    [1.0, 1.25, 1.5, 1.75, 2.0, 2.1]
+    """
+
+    start_m: float
+    stop_m: float
+    count: int
+    step_m: float
+
+    def array(self) -> np.ndarray:
+        """The stations (metres)."""
+        return np.minimum(self.start_m + self.step_m * np.arange(self.count), self.stop_m)
+
+
 @dataclass(frozen=True)
 class Profiles:
     """Results for a batch of lines, in input order."""
 
     s_m: list[np.ndarray]
+    stations: list[Stations]
     curvature_per_m: list[np.ndarray]
     radius_m: list[np.ndarray]
     min_radius_m: np.ndarray
@@ -83,11 +106,12 @@ def profiles(
     out_r: list[np.ndarray] = []
     mins: list[np.ndarray] = []
     turns: list[np.ndarray] = []
+    stations: list[Stations] = []
     a_all = np.asarray(core_from_m, dtype=float)
     b_all = np.asarray(core_to_m, dtype=float)
     for lo in range(0, len(lines), CHUNK_LINES):
         hi = min(lo + CHUNK_LINES, len(lines))
-        s, k, r, m, t = _chunk(
+        s, k, r, m, t, st = _chunk(
             lines[lo:hi],
             a_all[lo:hi],
             b_all[lo:hi],
@@ -103,9 +127,11 @@ def profiles(
         out_r += r
         mins.append(m)
         turns.append(t)
+        stations += st
     empty = np.zeros(0)
     return Profiles(
         out_s,
+        stations,
         out_k,
         out_r,
         np.concatenate(mins) if mins else empty,
@@ -193,7 +219,12 @@ def _chunk(lines, a, b, step, window, margin, adaptive, min_chord, max_window):
     starts = [0, *bounds]
     ends = [*bounds, len(s_st)]
     split = [(s_st[i:j], k[i:j], radius[i:j]) for i, j in zip(starts, ends, strict=True)]
-    return [x[0] for x in split], [x[1] for x in split], [x[2] for x in split], min_r, turn
+    stations = [
+        Stations(a_, b_, c_, step)
+        for a_, b_, c_ in zip(lo.tolist(), hi.tolist(), n_st.tolist(), strict=True)
+    ]
+    out = [x[0] for x in split], [x[1] for x in split], [x[2] for x in split], min_r, turn
+    return (*out, stations)
 
 
 def _unwrap_per_line(angles: np.ndarray, line_of: np.ndarray, ok: np.ndarray | None = None):
