@@ -60,10 +60,10 @@ from shapely.geometry.base import BaseGeometry
 
 from analysis.kernels import (
     greedy_keys,
+    look_back_distance,
     normal_widths,
     pair_hulls,
     vertex_path_bounds,
-    windowed_distance,
 )
 from analysis.tracking import TrackingRun, Trajectory
 from vehicles.vehicle import Vehicle
@@ -305,19 +305,15 @@ def _offtracking(
 
     The front path is extended straight back from its start; the window of sample ``i`` is
     the path's segments from ``2 |f_i - q_i| + 1`` metres of arc behind its point ``i`` up
-    to that point, every one of them searched (:func:`analysis.kernels.windowed_distance`).
+    to that point, every one of them searched (:func:`analysis.kernels.look_back_distance`).
     """
-    n = len(fx)
     gap = np.hypot(fx - qx, fy - qy)
     back = float(gap.max()) * 2.0 + 1.0
     # the front path, extended straight back from its start by `back`
     px = np.concatenate([[fx[0] - back * math.cos(theta0)], fx])
     py = np.concatenate([[fy[0] - back * math.sin(theta0)], fy])
-    arc = np.concatenate([[0.0], np.cumsum(np.hypot(np.diff(px), np.diff(py)))])
-    idx = np.arange(n) + 1  # sample i is point idx[i] of the extended path
-    lo = np.searchsorted(arc, arc[idx] - (2.0 * gap + 1.0), side="right") - 1
-    lo = np.minimum(np.maximum(lo, 0), idx - 1)
-    return windowed_distance(px, py, qx, qy, lo, idx)
+    # sample i is point i + 1 of the extended path
+    return look_back_distance(px, py, qx, qy, 2.0 * gap + 1.0)
 
 
 def wheel_tracks(vehicle: Vehicle, traj: Trajectory) -> dict[str, shapely.LineString]:

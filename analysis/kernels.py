@@ -63,10 +63,55 @@ def windowed_distance(px: np.ndarray, py: np.ndarray, qx: np.ndarray, qy: np.nda
     ...                   np.array([2, 1]), np.array([4, 1])).tolist()
     [2.0, inf]
     """
+    return _nearest_in_windows(px, py, _arc_lengths(px, py), qx, qy, lo, hi)
+
+
+@njit(cache=True)
+def look_back_distance(px: np.ndarray, py: np.ndarray, qx: np.ndarray, qy: np.ndarray,
+                       reach: np.ndarray) -> np.ndarray:  # pragma: no cover - compiled
+    """Distance from each point ``q_i`` to the polyline from point ``i + 1`` back ``reach_i``.
+
+    The window of ``q_i`` (:func:`windowed_distance`) is the segments from the last point
+    more than ``reach_i`` metres of arc behind point ``i + 1`` (the first point if none is),
+    up to point ``i + 1``.
+
+    Examples
+    --------
+    A straight path along x; each point 2 m behind point ``i + 1`` and 1 m to its left. Its
+    window reaching far back holds the point beside it (the first point has nothing behind
+    it); a window of 0.5 m holds only the last segment:
+
+    >>> px, py = np.arange(6.0), np.zeros(6)
+    >>> qx, qy = np.arange(5.0) - 1.0, np.ones(5)
+    >>> np.round(look_back_distance(px, py, qx, qy, np.full(5, 9.0)), 3).tolist()
+    [1.414, 1.0, 1.0, 1.0, 1.0]
+    >>> np.round(look_back_distance(px, py, qx, qy, np.full(5, 0.5)), 3).tolist()
+    [1.414, 1.414, 1.414, 1.414, 1.414]
+    """
+    arc = _arc_lengths(px, py)
+    n = qx.shape[0]
+    lo = np.empty(n, dtype=np.int64)
+    hi = np.empty(n, dtype=np.int64)
+    for i in range(n):
+        hi[i] = i + 1
+        j = np.searchsorted(arc, arc[i + 1] - reach[i], side="right") - 1
+        lo[i] = min(max(j, 0), i)
+    return _nearest_in_windows(px, py, arc, qx, qy, lo, hi)
+
+
+@njit(cache=True)
+def _arc_lengths(px: np.ndarray, py: np.ndarray) -> np.ndarray:  # pragma: no cover
     m = px.shape[0]
     arc = np.zeros(m)
     for k in range(m - 1):
         arc[k + 1] = arc[k] + math.hypot(px[k + 1] - px[k], py[k + 1] - py[k])
+    return arc
+
+
+@njit(cache=True)
+def _nearest_in_windows(px: np.ndarray, py: np.ndarray, arc: np.ndarray, qx: np.ndarray,
+                        qy: np.ndarray, lo: np.ndarray,
+                        hi: np.ndarray) -> np.ndarray:  # pragma: no cover - compiled
     n = qx.shape[0]
     out = np.empty(n)
     start = -1
