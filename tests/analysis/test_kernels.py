@@ -10,6 +10,7 @@ from analysis.clearance import farthest_on_lines
 from analysis.kernels import (
     farthest_from_segments,
     greedy_keys,
+    look_back_distance,
     normal_widths,
     pair_hulls,
     project_near,
@@ -162,3 +163,20 @@ def test_vertex_path_bounds_match_a_numpy_reference_on_random_paths() -> None:
                                    rel=1e-12)
     assert turn == pytest.approx(np.concatenate([[0.0, 0.0], np.cumsum(bend.max(axis=1))]),
                                  abs=1e-9)
+
+
+def test_look_back_distance_matches_shapely_on_each_look_back_window() -> None:
+    for _ in range(20):
+        n = int(RNG.integers(3, 200))
+        px, py = _wiggly_path(n)
+        qx, qy = px[1:] + RNG.normal(0, 1, n - 1), py[1:] + RNG.normal(0, 1, n - 1)
+        reach = RNG.uniform(0.0, 10.0, n - 1)
+        got = look_back_distance(px, py, qx, qy, reach)
+        arc = np.concatenate([[0.0], np.cumsum(np.hypot(np.diff(px), np.diff(py)))])
+        for i in range(n - 1):
+            # from the last point more than reach_i behind point i + 1 (or the first point)
+            behind = np.flatnonzero(arc < arc[i + 1] - reach[i])
+            lo = int(behind[-1]) if len(behind) else 0
+            piece = shapely.LineString(np.c_[px[lo:i + 2], py[lo:i + 2]])
+            assert got[i] == pytest.approx(
+                shapely.distance(shapely.Point(qx[i], qy[i]), piece), abs=1e-9)
