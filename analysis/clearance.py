@@ -138,6 +138,8 @@ class Areas:
     paved: BaseGeometry
     roadway: BaseGeometry | None = None
     _boundaries: dict[str, BaseGeometry] = field(init=False, repr=False, compare=False)
+    _segments: dict[str, np.ndarray] = field(init=False, repr=False, compare=False,
+                                             default_factory=dict)
 
     def __post_init__(self) -> None:
         _check_area("own_lanes", self.own_lanes, True)
@@ -155,6 +157,19 @@ class Areas:
         """Boundary (all rings) of the named area."""
         return self._boundaries[name]
 
+    def segments(self, name: str) -> np.ndarray:
+        """Boundary segments of the named area, ``(k, 2, 2)`` (found once, when first asked).
+
+        Examples
+        --------
+        >>> Areas(shapely.box(0, 0, 10, 3), shapely.box(0, -3, 10, 6)).segments("paved")[0]
+        array([[10., -3.],
+               [10.,  6.]])
+        """
+        if name not in self._segments:
+            self._segments[name] = np.stack(ring_segments(getattr(self, name)), axis=1)
+        return self._segments[name]
+
 
 def signed_margin_m(
     envelope: BaseGeometry,
@@ -162,11 +177,14 @@ def signed_margin_m(
     area_boundary: BaseGeometry | None = None,
     densify_m: float = DEFAULT_DENSIFY_M,
     ignore: BaseGeometry | None = None,
+    area_segments: np.ndarray | None = None,
 ) -> float:
     """Signed margin of an envelope in an area (see the module docstring).
 
     ``ignore`` (optional) is a region where the area's boundary does not count for the gap
     inside: the lanes' ends where the envelope was trimmed (:func:`end_boxes`).
+    ``area_segments`` (optional) are the area's boundary segments (:meth:`Areas.segments`),
+    found here when not given.
 
     Examples
     --------
@@ -229,12 +247,15 @@ def signed_margin_m(
     probe = np.concatenate([coords, extra])
     if not len(probe):
         return 0.0
-    # Distances to the boundary of the part of the area near the envelope first (every probe
-    # lies outside the area, so its distance to the area is that to the boundary): one no
-    # larger than the window's margin is exact (any nearer part would lie in the window).
+    # Distances to the area's boundary segments that reach into a window about the probes
+    # first (every probe lies outside the area, so its distance to the area is that to the
+    # boundary): one no larger than the window's margin is exact (the nearest boundary point
+    # then lies in the window, on one of those segments); a larger one is measured on the area.
+    segs = area_segments if area_segments is not None else np.stack(ring_segments(area), axis=1)
     lo, hi = probe.min(axis=0) - NEAR_M, probe.max(axis=0) + NEAR_M
-    near = shapely.clip_by_rect(area, lo[0], lo[1], hi[0], hi[1])
-    segs = np.stack(ring_segments(near), axis=1)
+    into = (np.all(np.maximum(segs[:, 0], segs[:, 1]) >= lo, axis=1)
+            & np.all(np.minimum(segs[:, 0], segs[:, 1]) <= hi, axis=1))
+    segs = np.ascontiguousarray(segs[into])
 
     def distance(xy: np.ndarray) -> np.ndarray:
         d = segments_distance(xy, segs)
@@ -383,14 +404,13 @@ def classify(
         # the run stopped before its body swept anything between the curve's ends
         return Clearance("cannot-turn", math.nan, math.nan, None, float(offset_m),
                          cannot_turn_reason)
-    own = _within_precision(
-        signed_margin_m(grown, areas.own_lanes, areas.boundary("own_lanes"), densify_m, ignore))
-    paved = _within_precision(
-        signed_margin_m(grown, areas.paved, areas.boundary("paved"), densify_m, ignore))
-    road = None
-    if areas.roadway is not None:
-        road = _within_precision(signed_margin_m(grown, areas.roadway,
-                                                 areas.boundary("roadway"), densify_m, ignore))
+    margins = {}
+    for name in ("own_lanes", "paved", "roadway"):
+        area = getattr(areas, name)
+        if area is not None:
+            margins[name] = _within_precision(signed_margin_m(
+                grown, area, areas.boundary(name), densify_m, ignore, areas.segments(name)))
+    own, paved, road = margins["own_lanes"], margins["paved"], margins.get("roadway")
     grown_by = f" (grown by {offset_m:.2f} m)" if offset_m > 0 else ""
     if cannot_turn_reason:
         verdict, reason = "cannot-turn", cannot_turn_reason

@@ -169,3 +169,20 @@ def test_overreach_search_matches_a_dense_reference_on_random_shapes() -> None:
         got = -signed_margin_m(envelope, area)
         # (the reference, sampled every 2 mm, may itself fall short by 1 mm)
         assert expected - 0.025 - 1e-9 <= got <= expected + 0.001 + 1e-9
+
+
+def test_area_segments_are_the_boundary_and_give_the_same_margins() -> None:
+    rng = np.random.default_rng(9)
+    for _ in range(20):
+        # a ring-shaped area (a hole too), an envelope poking out of it in places
+        area = shapely.difference(shapely.Point(0, 0).buffer(rng.uniform(8, 12), quad_segs=8),
+                                  shapely.Point(rng.uniform(-1, 1), 0).buffer(3.0, quad_segs=4))
+        areas = Areas(area, shapely.box(-20, -20, 20, 20))
+        segs = areas.segments("own_lanes")
+        assert float(np.hypot(*(segs[:, 1] - segs[:, 0]).T).sum()) == pytest.approx(
+            shapely.boundary(area).length, rel=1e-12)
+        envelope = shapely.affinity.rotate(
+            shapely.box(rng.uniform(-9, -4), rng.uniform(-4, 2), rng.uniform(4, 15),
+                        rng.uniform(3, 6)), rng.uniform(0, 180), origin=(0, 0))
+        assert signed_margin_m(envelope, area, area_segments=segs) == pytest.approx(
+            signed_margin_m(envelope, area), abs=1e-12)
