@@ -30,7 +30,7 @@ if TYPE_CHECKING:
     from networks.curves import Curve
 
 #: Curves per batch (a batch ends at the first change of junction after this many).
-BATCH_CURVES = 4096
+BATCH_CURVES = 8192
 
 #: Batches whose areas an :class:`AreaBook` keeps at once (the oldest is released first).
 MAX_BATCHES = 2

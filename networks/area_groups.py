@@ -45,6 +45,16 @@ class AreaIndex:
     internal
         Junction id -> every internal lane under it (also those after an internal junction,
         which the junction's ``intLanes`` may not list).
+    to_junction
+        Edge id -> the junction it ends at.
+    plain_edge
+        Plain lane id -> its edge.
+    junction_at
+        Lane id named as internal (``:...``) -> its junction (None when the network has no
+        such junction).
+    odd_lanes
+        Internal lanes whose id does not start with ``:`` (curves using them are grouped
+        the slow way, lane by lane).
     """
 
     def __init__(self, net: Network):
@@ -55,10 +65,73 @@ class AreaIndex:
                 continue
             self.incident.setdefault(e.from_junction, []).append(e.id)
             self.incident.setdefault(e.to_junction, []).append(e.id)
+        self.to_junction = {e.id: e.to_junction for e in net.edges.values()}
         self.internal: dict[str, list[str]] = {}
+        self.plain_edge: dict[str, str] = {}
+        self.junction_at: dict[str, str | None] = {}
+        odd: list[str] = []
+        junctions = net.junctions
         for k, lane in net.lanes.items():
+            named_internal = k.startswith(":")
+            if named_internal:
+                j = junction_of_internal(k)
+                self.junction_at[k] = j if j in junctions else None
             if lane.function == "internal":
-                self.internal.setdefault(junction_of_internal(k), []).append(k)
+                if named_internal:
+                    self.internal.setdefault(j, []).append(k)
+                else:
+                    odd.append(k)
+                    self.internal.setdefault(junction_of_internal(k), []).append(k)
+            else:
+                self.plain_edge[k] = lane.edge
+        self.odd_lanes = frozenset(odd)
+
+    def plain_edges(self, lanes: Sequence[str]) -> tuple[str, ...] | None:
+        """The plain edges a lane sequence runs on, as :func:`plain_edges_of` gives them;
+        None when a lane is neither a plain lane nor named as an internal one (an unknown
+        lane, or an internal lane named without ``:``: ask :func:`plain_edges_of`).
+
+        Examples
+        --------
+        >>> from networks.samples.sources import SAMPLES_DIR
+        >>> from networks.reader import read_network
+        >>> net = read_network(SAMPLES_DIR / "intersection" / "intersection.net.xml")
+        >>> index = AreaIndex(net)
+        >>> a, b = [k for k in net.lanes if not k.startswith(":")][:2]
+        >>> index.plain_edges([a, a, b]) == plain_edges_of(net, [a, a, b])
+        True
+        >>> index.plain_edges(["no_such_lane"]) is None
+        True
+        """
+        edge_of = self.plain_edge
+        out: list[str] = []
+        for k in lanes:
+            e = edge_of.get(k)
+            if e is not None:
+                out.append(e)
+            elif k not in self.junction_at:
+                return None
+        if len(out) == 2:
+            return (out[0],) if out[0] == out[1] else (out[0], out[1])
+        return tuple(dict.fromkeys(out))
+
+    def junctions_of(self, curve: Curve) -> tuple[str, ...]:
+        """The junctions a curve passes through, as :func:`junctions_of` gives them (a
+        turn's or roundabout's from the junctions of its internal lanes, looked up)."""
+        if curve.kind not in ("turn", "roundabout"):
+            return junctions_of(self.net, curve)
+        at = self.junction_at
+        out: list[str] = []
+        for k in curve.core_lanes:
+            if k.startswith(":"):
+                j = at[k] if k in at else _existing(self.net, junction_of_internal(k))
+                if j is not None and j not in out:
+                    out.append(j)
+        return tuple(out)
+
+
+def _existing(net: Network, junction: str) -> str | None:
+    return junction if junction in net.junctions else None
 
 
 def is_road(net: Network, lane_id: str) -> bool:
@@ -137,8 +210,26 @@ class BatchPlan:
 
     def add(self, curve: Curve) -> tuple[int, int]:
         """Register a curve; return the numbers of its roadway group and paved group."""
-        plain = plain_edges_of(self.net, curve.lanes)
-        return self._roadway(curve, plain), self._paved(curve, plain)
+        plain = self.index.plain_edges(curve.lanes)
+        if plain is None or not self.index.odd_lanes.isdisjoint(curve.lanes):
+            plain = plain_edges_of(self.net, curve.lanes)
+            return self._roadway(curve, plain), self._paved(curve, plain)
+        # every plain lane's edge is in ``plain``: no lane of the curve is left out of the
+        # paved members, which depend on its junctions and plain edges only
+        junctions = self.index.junctions_of(curve)
+        near = self._near.get(junctions)
+        if near is None:
+            near = self._near_edges(junctions)
+        to_junction = self.index.to_junction
+        if all(e in near for e in plain) and all(
+            to_junction[a] in junctions for a in plain[:-1]
+        ):
+            paved = self._paved_of.get((junctions,))  # its junctions' areas cover it all
+            if paved is None:
+                paved = self._paved(curve, plain, junctions)
+        else:
+            paved = self._paved(curve, plain, junctions)
+        return self._roadway(curve, plain), paved
 
     # pieces --------------------------------------------------------------------------
     def _piece(self, key: str, lanes: Sequence[str]) -> str | None:
@@ -193,8 +284,8 @@ class BatchPlan:
             hit = self._road_pieces[plain] = (found, covered)
         keys, covered = hit
         # a lane of the curve in no piece (e.g. a ring passage without a connection)
-        extra = tuple(k for k in curve.lanes if k not in covered)
-        key = (plain, extra)
+        extra = [k for k in curve.lanes if k not in covered]
+        key = (plain, *extra) if extra else plain
         group = self._road_of.get(key)
         if group is None:
             members = frozenset([*keys, *("L:" + k for k in extra)])
@@ -202,15 +293,15 @@ class BatchPlan:
         return group
 
     # paved ---------------------------------------------------------------------------
-    def _paved(self, curve: Curve, plain: tuple[str, ...]) -> int:
+    def _paved(
+        self, curve: Curve, plain: tuple[str, ...], junctions: tuple[str, ...] | None = None
+    ) -> int:
         net = self.net
-        junctions = junctions_of(net, curve)
+        if junctions is None:
+            junctions = junctions_of(net, curve)
         near = self._near.get(junctions)
         if near is None:
-            edges: set[str] = set()
-            for j in junctions:
-                edges.update(self.index.incident.get(j, ()))
-            near = self._near[junctions] = frozenset(edges)
+            near = self._near_edges(junctions)
         lanes = net.lanes
         extra = tuple(
             k for k in curve.lanes
@@ -228,6 +319,13 @@ class BatchPlan:
             members = frozenset(self._paved_members(junctions, near, plain, extra))
             group = self._paved_of[key] = _number(members, self._paved_ids, self.paved_groups)
         return group
+
+    def _near_edges(self, junctions: tuple[str, ...]) -> frozenset[str]:
+        edges: set[str] = set()
+        for j in junctions:
+            edges.update(self.index.incident.get(j, ()))
+        near = self._near[junctions] = frozenset(edges)
+        return near
 
     def _paved_members(
         self,

@@ -31,13 +31,15 @@ builds it. Unions of a few polygons are pairwise, larger ones ``shapely.union_al
 rows of an array. A paved area is the union of its plain lanes, edges and junction polygon
 first, then of that with the union of only the internal lanes it does not already cover
 (the same area, far fewer crossings to node). The vectorised shapely calls are split over
-:data:`WORKERS` threads. ``own_lanes`` is a buffer of the centre line, so at lane joins it
+:data:`WORKERS` threads, and the ``own_lanes`` are buffered on a worker thread while the
+batch is grouped. ``own_lanes`` is a buffer of the centre line, so at lane joins it
 may stick out of the lane polygons of ``roadway`` by slivers of a few square centimetres.
 """
 
 from __future__ import annotations
 
 import os
+import threading
 from collections.abc import Callable, Sequence
 from concurrent.futures import ThreadPoolExecutor
 from functools import partial
@@ -169,14 +171,26 @@ WORKERS = int(os.environ.get("CLEARANCE_THREADS", 0)) or max(1, min(4, len(
     os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (os.cpu_count() or 1)))
 
 #: Arrays shorter than this are not split between threads.
-MIN_SPLIT = 256
+MIN_SPLIT = 32
+
+_POOL: tuple[int, ThreadPoolExecutor] | None = None
+
+
+def _pool() -> ThreadPoolExecutor:
+    """The module's worker threads (made on first use and kept; a forked child, which
+    does not inherit threads, makes its own)."""
+    global _POOL
+    if _POOL is None or _POOL[0] != os.getpid():
+        _POOL = (os.getpid(), ThreadPoolExecutor(WORKERS + 1, thread_name_prefix="areas"))
+    return _POOL[1]
 
 
 def _threaded(func: Callable[..., np.ndarray], *arrays: np.ndarray) -> np.ndarray:
     """``func(*arrays)`` computed on :data:`WORKERS` slices of the arrays at once.
 
     ``func`` must work row by row (a vectorised shapely call), so that the slices'
-    results concatenated are its result on the whole.
+    results concatenated are its result on the whole. Called from a worker thread (see
+    :func:`build_areas`), it runs in that thread alone.
 
     Examples
     --------
@@ -184,16 +198,20 @@ def _threaded(func: Callable[..., np.ndarray], *arrays: np.ndarray) -> np.ndarra
     >>> out = _threaded(shapely.buffer, a, np.full(5000, 1.0))
     >>> len(out), round(float(shapely.area(out).sum()) / 5000, 2)
     (5000, 3.12)
+    >>> len(_threaded(shapely.buffer, a[:0], np.ones(0)))
+    0
     """
     n = len(arrays[0])
-    if WORKERS == 1 or n < MIN_SPLIT:
+    if WORKERS == 1 or n < MIN_SPLIT or threading.current_thread().name.startswith("areas"):
         return func(*arrays)
     bounds = np.linspace(0, n, WORKERS + 1).astype(int)
-    with ThreadPoolExecutor(WORKERS) as pool:
-        cuts = zip(bounds[:-1], bounds[1:], strict=True)
-        slices = [tuple(x[a:b] for x in arrays) for a, b in cuts]
-        parts = list(pool.map(lambda args: func(*args), slices))
-    return np.concatenate(parts)
+    cuts = list(zip(bounds[:-1], bounds[1:], strict=True))
+    pool = _pool()
+    # the last slice in this thread, the others on the pool's
+    futures = [pool.submit(func, *(x[a:b] for x in arrays)) for a, b in cuts[:-1]]
+    a, b = cuts[-1]
+    last = func(*(x[a:b] for x in arrays))
+    return np.concatenate([f.result() for f in futures] + [last])
 
 
 def _fill_small_holes(geom, min_hole_m2: float | None = None):
@@ -256,10 +274,13 @@ def build_areas(
         empty = np.empty(0, dtype=object)
         return empty, empty, empty
     with gc_paused():
+        # the own lanes (GEOS, without the GIL) are buffered on a worker thread meanwhile
+        own = _pool().submit(own_lane_polygons, curves) if WORKERS > 1 else None
         plan = BatchPlan(index)
         of = np.array([plan.add(c) for c in curves], dtype=np.intp)
         roadway, paved = _build_groups(plan)
-        return own_lane_polygons(curves), roadway[of[:, 0]], paved[of[:, 1]]
+        own_lanes = own_lane_polygons(curves) if own is None else own.result()
+        return own_lanes, roadway[of[:, 0]], paved[of[:, 1]]
 
 
 def attach_areas(net: Network, curves: Sequence[Curve]) -> None:

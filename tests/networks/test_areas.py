@@ -50,3 +50,32 @@ def test_kinked_lanes_leave_no_gap_and_areas_nest(build_net):
     # every turn at B shares one paved area
     at_b = [c for c in curves if c.junction == "B"]
     assert len(at_b) >= 3 and len({id(c.paved) for c in at_b}) == 1
+
+
+def test_threaded_calls_equal_one_call_in_any_thread(monkeypatch):
+    from networks import areas
+
+    pts = shapely.points(np.arange(1000.0), np.zeros(1000))
+    radii = np.linspace(0.5, 2.0, 1000)
+    whole = shapely.buffer(pts, radii)
+    monkeypatch.setattr(areas, "WORKERS", 2)
+    monkeypatch.setattr(areas, "MIN_SPLIT", 8)
+    split = areas._threaded(shapely.buffer, pts, radii)
+    inside = areas._pool().submit(areas._threaded, shapely.buffer, pts, radii).result()
+    for out in (split, inside):
+        assert len(out) == 1000 and shapely.equals_exact(out, whole, 0).all()
+
+
+def test_own_lanes_built_on_a_worker_equal_those_built_alone(monkeypatch):
+    from networks import areas
+    from networks.area_groups import AreaIndex
+    from networks.samples.sources import SAMPLES_DIR
+
+    net = read_network(SAMPLES_DIR / "roundabout" / "roundabout.net.xml")
+    curves = extract_curves(net, areas=False)
+    built = {}
+    for workers in (1, 2):
+        monkeypatch.setattr(areas, "WORKERS", workers)
+        built[workers] = areas.build_areas(AreaIndex(net), curves)
+    for one, two in zip(built[1], built[2], strict=True):
+        assert [shapely.to_wkb(g) for g in one] == [shapely.to_wkb(g) for g in two]
