@@ -163,7 +163,9 @@ def dump(state: _ParseState) -> bytes:
     """What a parser state read, pickled for :func:`merge` (shapes still as strings).
 
     Plain tuples of strings and numbers only: pickle makes and reads them in C, and
-    shares the one frozenset of vehicle classes many lanes have.
+    shares the one frozenset of vehicle classes many lanes have (and the interned edge ids
+    of the connections). Strings of which there are very many (a connection's ``via``, a
+    junction's lane lists) are sent joined, one string each, which is faster both ways.
     """
     loc = state.location
     return pickle.dumps(
@@ -173,9 +175,9 @@ def dump(state: _ParseState) -> bytes:
             state.lane_shapes,
             [(e.id, e.from_junction, e.to_junction, e.function, e.priority, e.lanes)
              for e in state.edges.values()],
-            state.connection_rows,
-            [(j.id, j.type, j.x, j.y, j.z, j.inc_lanes, j.int_lanes)
-             for j in state.junctions.values()],
+            _connection_columns(state.connection_rows),
+            [(j.id, j.type, j.x, j.y, j.z, " ".join(j.inc_lanes), " ".join(j.int_lanes))
+             for j in state.junctions.values()],  # lane ids hold no spaces (split on them)
             state.junction_shapes,
             [(r.nodes, r.edges) for r in state.roundabouts],
             (loc.net_offset, loc.conv_boundary, loc.orig_boundary, loc.proj_parameter)
@@ -204,13 +206,48 @@ def merge(state: _ParseState, data: bytes) -> None:
         state.add_lane(Lane(*row[:6], EMPTY_SHAPE, *row[6:]), shape)
     for row in edges:
         state.edges[row[0]] = Edge(*row)
-    state.connection_rows.extend(connections)
+    state.connection_rows.extend(_connection_rows(connections))
     for row, shape in zip(junctions, junction_shapes, strict=True):
-        state.add_junction(Junction(*row[:5], EMPTY_SHAPE, *row[5:]), shape)
+        junction = Junction(*row[:5], EMPTY_SHAPE, tuple(row[5].split()), tuple(row[6].split()))
+        state.add_junction(junction, shape)
     state.roundabouts.extend(Roundabout(*r) for r in rounds)
     if loc is not None:
         state.location = Location(*loc)
         state.location_seen = True
+
+
+_SEP = "\x00"  # neither can occur in XML text
+_NONE = "\x01"  # stands for a missing ``via``
+
+ConnectionRow = tuple[str, str, int, int, str | None, str]
+
+
+def _connection_columns(rows: list[ConnectionRow]) -> tuple:
+    """Connection rows as columns, the ``via`` column as one string."""
+    if not rows:
+        return ()
+    frm, to, from_lane, to_lane, via, direction = zip(*rows, strict=True)
+    vias = _SEP.join([_NONE if v is None else v for v in via])
+    return frm, to, from_lane, to_lane, vias, direction
+
+
+def _connection_rows(columns: tuple) -> zip:
+    """The rows :func:`_connection_columns` was given.
+
+    Examples
+    --------
+    >>> rows = [("a", "b", 0, 1, ":j_0_0", "r"), ("c", "d", 2, 0, None, "s")]
+    >>> rows.append(("e", "f", 0, 0, "", ""))  # an empty via is not a missing one
+    >>> list(_connection_rows(_connection_columns(rows))) == rows
+    True
+    >>> list(_connection_rows(_connection_columns([])))
+    []
+    """
+    if not columns:
+        return zip()
+    frm, to, from_lane, to_lane, vias, direction = columns
+    via = [None if v == _NONE else v for v in vias.split(_SEP)]
+    return zip(frm, to, from_lane, to_lane, via, direction, strict=True)
 
 
 def _child(path: str, offset: int) -> int:
