@@ -31,9 +31,11 @@ builds it. Unions of a few polygons are pairwise, larger ones ``shapely.union_al
 rows of an array. A paved area is the union of its plain lanes, edges and junction polygon
 first, then of that with the union of only the internal lanes it does not already cover
 (the same area, far fewer crossings to node). The vectorised shapely calls are split over
-:data:`WORKERS` threads, and the ``own_lanes`` are buffered on a worker thread while the
-batch is grouped. ``own_lanes`` is a buffer of the centre line, so at lane joins it
-may stick out of the lane polygons of ``roadway`` by slivers of a few square centimetres.
+:data:`WORKERS` threads; a large batch is built as two halves at once (one on a worker
+thread: the grouping of one runs while the other's shapely calls run), and the
+``own_lanes`` are buffered on a worker thread while a batch is grouped. ``own_lanes`` is
+a buffer of the centre line, so at lane joins it may stick out of the lane polygons of
+``roadway`` by slivers of a few square centimetres.
 """
 
 from __future__ import annotations
@@ -207,8 +209,8 @@ def _threaded(func: Callable[..., np.ndarray], *arrays: np.ndarray) -> np.ndarra
     """``func(*arrays)`` computed on :data:`WORKERS` slices of the arrays at once.
 
     ``func`` must work row by row (a vectorised shapely call), so that the slices'
-    results concatenated are its result on the whole. Called from a worker thread (see
-    :func:`build_areas`), it runs in that thread alone.
+    results concatenated are its result on the whole. Where the thread may not spread work
+    (:func:`_may_split`), it runs in that thread alone.
 
     Examples
     --------
@@ -220,7 +222,7 @@ def _threaded(func: Callable[..., np.ndarray], *arrays: np.ndarray) -> np.ndarra
     0
     """
     n = len(arrays[0])
-    if WORKERS == 1 or n < MIN_SPLIT or threading.current_thread().name.startswith("areas"):
+    if n < MIN_SPLIT or not _may_split():
         return func(*arrays)
     bounds = np.linspace(0, n, WORKERS + 1).astype(int)
     cuts = list(zip(bounds[:-1], bounds[1:], strict=True))
@@ -284,21 +286,78 @@ def build_areas(
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """The ``own_lanes``, ``roadway`` and ``paved`` areas of some curves (one array each).
 
-    Curves of the batch with the same roadway members share one object, and so do those
-    with the same paved members (one paved area per junction, one roadway per movement).
-    The lanes, junction polygons and pieces are made for this call only.
+    Curves with the same roadway members share one object, and so do those with the same
+    paved members (one paved area per junction, one roadway per movement), within each
+    half: with more than one worker, at least :data:`HALVES_MIN` curves are built as two
+    halves at once (cut where the junction changes), one on a worker thread, so that the
+    grouping of one half (Python) runs while the other's shapely calls run. The lanes,
+    junction polygons and pieces are made for this call only.
     """
     if not curves:
         empty = np.empty(0, dtype=object)
         return empty, empty, empty
     with gc_paused():
-        # the own lanes (GEOS, without the GIL) are buffered on a worker thread meanwhile
-        own = _pool().submit(own_lane_polygons, curves) if WORKERS > 1 else None
-        plan = BatchPlan(index)
-        of = np.array([plan.add(c) for c in curves], dtype=np.intp)
-        roadway, paved = _build_groups(plan)
-        own_lanes = own_lane_polygons(curves) if own is None else own.result()
-        return own_lanes, roadway[of[:, 0]], paved[of[:, 1]]
+        cut = _halfway(curves) if len(curves) >= HALVES_MIN and _may_split() else 0
+        if not cut:
+            return _build(index, curves)
+        other = _pool().submit(_build, index, curves[cut:])
+        _local.alone = True
+        try:
+            first = _build(index, curves[:cut])
+        finally:
+            _local.alone = False
+        second = other.result()
+        own, roadway, paved = (np.concatenate(p) for p in zip(first, second, strict=True))
+        return own, roadway, paved
+
+
+#: Batches of at least this many curves are built in two halves at once (:func:`build_areas`).
+HALVES_MIN = 512
+
+_local = threading.local()
+
+
+def _may_split() -> bool:
+    """True when this thread may spread work over the pool (not on a worker thread, nor
+    while building one half of a batch)."""
+    return (
+        WORKERS > 1
+        and not getattr(_local, "alone", False)
+        and not threading.current_thread().name.startswith("areas")
+    )
+
+
+def _halfway(curves: Sequence[Curve]) -> int:
+    """Where to cut curves in two halves: the first change of junction from the middle on
+    (or before it); 0 when all are at one junction.
+
+    Examples
+    --------
+    >>> from types import SimpleNamespace as NS
+    >>> _halfway([NS(junction=j) for j in "AAABBC"]), _halfway([NS(junction=j) for j in "AAAAB"])
+    (3, 4)
+    >>> _halfway([NS(junction="A")] * 4)
+    0
+    """
+    mid = len(curves) // 2
+    for i in range(max(mid, 1), len(curves)):
+        if curves[i].junction != curves[i - 1].junction:
+            return i
+    for i in range(mid - 1, 0, -1):
+        if curves[i].junction != curves[i - 1].junction:
+            return i
+    return 0
+
+
+def _build(index: AreaIndex, curves: Sequence[Curve]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """:func:`build_areas` of one run of curves, in this thread (with helpers when it may)."""
+    # the own lanes (GEOS, without the GIL) are buffered on a worker thread meanwhile
+    own = _pool().submit(own_lane_polygons, curves) if _may_split() else None
+    plan = BatchPlan(index)
+    of = np.array([plan.add(c) for c in curves], dtype=np.intp)
+    roadway, paved = _build_groups(plan)
+    own_lanes = own_lane_polygons(curves) if own is None else own.result()
+    return own_lanes, roadway[of[:, 0]], paved[of[:, 1]]
 
 
 def attach_areas(net: Network, curves: Sequence[Curve]) -> None:

@@ -5,6 +5,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
+import pytest
 import shapely
 
 from networks.areas import MIN_HOLE_M2, _fill_small_holes, _union_rows, attach_areas
@@ -66,16 +67,23 @@ def test_threaded_calls_equal_one_call_in_any_thread(monkeypatch):
         assert len(out) == 1000 and shapely.equals_exact(out, whole, 0).all()
 
 
-def test_own_lanes_built_on_a_worker_equal_those_built_alone(monkeypatch):
+@pytest.mark.parametrize("halves_min", [4, 10**9])
+def test_areas_built_on_workers_or_in_halves_equal_those_built_alone(monkeypatch, halves_min):
     from networks import areas
     from networks.area_groups import AreaIndex
     from networks.samples.sources import SAMPLES_DIR
 
     net = read_network(SAMPLES_DIR / "roundabout" / "roundabout.net.xml")
     curves = extract_curves(net, areas=False)
+    monkeypatch.setattr(areas, "HALVES_MIN", halves_min)
+    halves = []
+    build = areas._build
+    monkeypatch.setattr(areas, "_build", lambda i, c: halves.append(len(c)) or build(i, c))
     built = {}
     for workers in (1, 2):
         monkeypatch.setattr(areas, "WORKERS", workers)
         built[workers] = areas.build_areas(AreaIndex(net), curves)
+    assert sorted(halves[1:]) == ([len(curves)] if halves_min > len(curves) else sorted(
+        [areas._halfway(curves), len(curves) - areas._halfway(curves)]))
     for one, two in zip(built[1], built[2], strict=True):
         assert [shapely.to_wkb(g) for g in one] == [shapely.to_wkb(g) for g in two]
