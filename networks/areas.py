@@ -273,11 +273,20 @@ def junction_polygons(net: Network, junction_ids: Sequence[str]) -> np.ndarray:
     16.016
     """
     out = np.empty(len(junction_ids), dtype=object)
-    for i, j in enumerate(junction_ids):
-        shape = net.junctions[j].shape
-        out[i] = shapely.make_valid(shapely.Polygon(shape[:, :2])) if len(shape) >= 3 else None
-    if len(out):
-        out[:] = shapely.buffer(out, SEAL_M, quad_segs=1, join_style="mitre")
+    shapes = [net.junctions[j].shape for j in junction_ids]
+    some = np.flatnonzero([len(x) >= 3 for x in shapes])
+    if not len(some):
+        return out
+    counts = np.fromiter((len(shapes[i]) for i in some), dtype=np.intp, count=len(some))
+    try:  # all rings at once (each closed as shapely.Polygon closes it)
+        rings = shapely.linearrings(
+            np.vstack([shapes[i] for i in some])[:, :2], indices=np.repeat(np.arange(len(some)),
+                                                                           counts))
+        out[some] = shapely.polygons(rings)
+    except (ValueError, shapely.errors.GEOSException):  # a ring of fewer than three distinct points
+        out[some] = [shapely.Polygon(shapes[i][:, :2]) for i in some]
+    out[some] = shapely.buffer(shapely.make_valid(out[some]), SEAL_M, quad_segs=1,
+                               join_style="mitre")
     return out
 
 

@@ -87,3 +87,21 @@ def test_areas_built_on_workers_or_in_halves_equal_those_built_alone(monkeypatch
         [areas._halfway(curves), len(curves) - areas._halfway(curves)]))
     for one, two in zip(built[1], built[2], strict=True):
         assert [shapely.to_wkb(g) for g in one] == [shapely.to_wkb(g) for g in two]
+
+
+def test_junction_polygons_at_once_equal_one_by_one():
+    from networks.areas import SEAL_M, junction_polygons
+    from networks.samples.sources import SAMPLES_DIR
+
+    net = read_network(SAMPLES_DIR / "roundabout" / "roundabout.net.xml")
+    ids = list(net.junctions)
+    out = junction_polygons(net, ids)
+    for j, poly in zip(ids, out, strict=True):
+        shape = net.junctions[j].shape
+        if len(shape) < 3:
+            assert poly is None
+            continue
+        one = shapely.make_valid(shapely.Polygon(shape[:, :2]))
+        one = shapely.buffer(one, SEAL_M, quad_segs=1, join_style="mitre")
+        assert shapely.to_wkb(poly) == shapely.to_wkb(one), j
+    assert len(junction_polygons(net, [])) == 0
