@@ -143,6 +143,8 @@ def _union_rows(
     >>> g = np.array([shapely.box(0, 0, 2, 1), shapely.box(1, 0, 3, 1), shapely.box(5, 0, 6, 1)])
     >>> [float(a.area) for a in _union_rows([[0, 1], [0, 1, 2], [2]], g)]
     [3.0, 4.0, 1.0]
+    >>> [float(a.area) for a in _union_rows([[0, 1, 2], [0, 1, 0], [1, 2, 0]], g)]  # 0 + 1 once
+    [4.0, 3.0, 4.0]
     """
     out = np.empty(len(groups), dtype=object)
     if not groups:
@@ -159,9 +161,19 @@ def _union_rows(
         if size == 1:
             out[rows] = geoms[[groups[g][0] for g in rows]]
             continue
-        table = geoms[np.array([groups[g] for g in rows], dtype=np.intp)]
-        rows_union = _pairwise_rows if size <= pairwise_max else _union_all_rows
-        out[rows] = _threaded(rows_union, table)
+        index = np.array([groups[g] for g in rows], dtype=np.intp)
+        if size > pairwise_max:
+            out[rows] = _threaded(_union_all_rows, geoms[index])
+            continue
+        # rows that start with the same two entries (the two edges of a street, for a
+        # U-turn at either end) share their first union
+        pairs, first = np.unique(index[:, :2], axis=0, return_inverse=True)
+        if size > 2 and len(pairs) < len(index):
+            start = _threaded(shapely.union, geoms[pairs[:, 0]], geoms[pairs[:, 1]])
+            table = np.column_stack((start[first.ravel()], geoms[index[:, 2:]]))
+        else:
+            table = geoms[index]
+        out[rows] = _threaded(_pairwise_rows, table)
     return _seal(out) if seal else out
 
 

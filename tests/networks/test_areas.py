@@ -105,3 +105,16 @@ def test_junction_polygons_at_once_equal_one_by_one():
         one = shapely.buffer(one, SEAL_M, quad_segs=1, join_style="mitre")
         assert shapely.to_wkb(poly) == shapely.to_wkb(one), j
     assert len(junction_polygons(net, [])) == 0
+
+
+def test_rows_sharing_their_first_two_entries_union_them_once(monkeypatch):
+    from networks import areas
+
+    g = np.array([shapely.box(0, 0, 2, 1), shapely.box(1, 0, 3, 1), shapely.box(2, 0, 4, 2)])
+    calls = []
+    union = shapely.union
+    monkeypatch.setattr(areas.shapely, "union", lambda a, b: calls.append(len(a)) or union(a, b))
+    out = _union_rows([[0, 1, 2], [0, 1, 2], [1, 0, 2], [0, 1, 0]], g, seal=False)
+    assert [round(float(a.area), 9) for a in out] == [6.0, 6.0, 6.0, 3.0]
+    assert calls[0] == 2  # (0, 1) and (1, 0): two first unions for four rows
+    assert shapely.to_wkb(out[0]) == shapely.to_wkb(out[1])
