@@ -203,7 +203,7 @@ class BatchPlan:
         self._paved_ids: dict[frozenset[str], int] = {}
         self._road_of: dict[tuple, int] = {}
         self._paved_of: dict[tuple, int] = {}
-        self._road_pieces: dict[tuple[str, ...], tuple[list[str], frozenset[str]]] = {}
+        self._road_pieces: dict[tuple[str, ...], tuple[list[str], set[str]]] = {}
         self._near: dict[tuple[str, ...], frozenset[str]] = {}
         self._junction: dict[str, frozenset[str]] = {}
         self._movements: dict[str, dict[str, list[str]]] = {}
@@ -221,8 +221,9 @@ class BatchPlan:
         if near is None:
             near = self._near_edges(junctions)
         to_junction = self.index.to_junction
-        if all(e in near for e in plain) and all(
-            to_junction[a] in junctions for a in plain[:-1]
+        if near.issuperset(plain) and (
+            to_junction[plain[0]] in junctions if len(plain) == 2
+            else all(to_junction[a] in junctions for a in plain[:-1])
         ):
             paved = self._paved_of.get((junctions,))  # its junctions' areas cover it all
             if paved is None:
@@ -280,7 +281,9 @@ class BatchPlan:
             keys = [self.edge_piece(e, True) for e in plain]
             keys += [self.movement_piece(a, b) for a, b in zip(plain, plain[1:], strict=False)]
             found = [k for k in keys if k]
-            covered = frozenset(x for k in found for x in self.pieces[k])
+            covered: set[str] = set()
+            for k in found:
+                covered.update(self.pieces[k])
             hit = self._road_pieces[plain] = (found, covered)
         keys, covered = hit
         # a lane of the curve in no piece (e.g. a ring passage without a connection)
