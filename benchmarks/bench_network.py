@@ -18,7 +18,9 @@ is generated once into a cache directory outside the repository, then:
    profile, lanes) and the areas of at most that many batches, never all areas. Peak
    memory is that process's ``ru_maxrss`` (read, curves and areas together). Wall-clock
    times are compared with the targets; CPU times (all threads) are printed too, since
-   the shapely calls of the areas run one thread per core.
+   the areas use :data:`~networks.areas.WORKERS` threads (a batch is built as two halves
+   at once and the shapely calls are split between threads; ``CLEARANCE_THREADS=1``
+   builds everything in one thread).
 
 Targets on a 2-core machine: reading ≤ 5 s, extracting every curve ≤ 30 s, peak memory
 ≤ 1.5 GB. Run::
@@ -92,6 +94,8 @@ elif what == "extract":
     out["batches"] = len(book.batches) if book else 0
     out["batches_built"] = book.built if book else 0
     out["batch_curves"], out["max_batches"] = BATCH_CURVES, MAX_BATCHES
+    from networks.areas import WORKERS
+    out["workers"] = WORKERS
     out.update(curves_s=t2 - t1, areas_s=t3 - t2, curves_cpu_s=c2 - c1, areas_cpu_s=c3 - c2)
     out["curves"] = len(curves)
     kinds = {}
@@ -188,8 +192,9 @@ def main(argv: list[str] | None = None) -> int:
     )
     print(
         f"areas built on demand in {ext['batches']} batches of >= {ext['batch_curves']} "
-        f"curves ({ext['batches_built']} built); held at once: the network, every curve "
-        f"(geometry, profiles) and the areas of at most {ext['max_batches']} batches"
+        f"curves ({ext['batches_built']} built, {ext['workers']} thread(s)); held at once: "
+        f"the network, every curve (geometry, profiles) and the areas of at most "
+        f"{ext['max_batches']} batches"
     )
     print(
         f"peak memory of that process (read + extract + areas of every curve): {peak:.0f} MB "
