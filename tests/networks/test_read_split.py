@@ -165,8 +165,12 @@ def test_lane_before_any_edge_of_the_second_part(two_cores, tmp_path, monkeypatc
     assert_same_network(net, _one_pass(path, monkeypatch))
 
 
-def test_a_second_process_that_cannot_start_falls_back(two_cores, monkeypatch):
-    monkeypatch.setattr(sys, "executable", "/nonexistent/python")
+@pytest.mark.parametrize("executable", ["/nonexistent/python", "/bin/true", "/bin/false"])
+def test_a_second_process_that_fails_falls_back(two_cores, monkeypatch, executable):
+    # cannot start; exits 0 without a word; exits 1
+    if not Path(executable).exists() and executable != "/nonexistent/python":
+        pytest.skip(f"{executable} is not on this machine")
+    monkeypatch.setattr(sys, "executable", executable)
     offset = split_offset(ROUNDABOUT)
     assert read_in_two(ROUNDABOUT, offset) is None
     assert_same_network(read_network(ROUNDABOUT), _one_pass(ROUNDABOUT, monkeypatch))
