@@ -51,7 +51,7 @@ import numpy as np
 import shapely
 
 from networks.area_groups import AreaIndex, BatchPlan
-from networks.reader import Network, gc_paused
+from networks.reader import Network, cores, gc_paused
 from networks.stadium import MIN_LENGTH_M, segment_buffers
 
 #: The polygons ``roadway`` and ``paved`` are made of are grown by this much (metres), so
@@ -198,9 +198,8 @@ def _pairwise_rows(table: np.ndarray) -> np.ndarray:
 
 
 #: Threads for the vectorised shapely calls (they release the GIL): one per core, at most 4
-#: (the environment variable ``CLEARANCE_THREADS`` overrides it).
-WORKERS = int(os.environ.get("CLEARANCE_THREADS", 0)) or max(1, min(4, len(
-    os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (os.cpu_count() or 1)))
+#: (the environment variable ``CLEARANCE_THREADS`` overrides it; :func:`networks.reader.cores`).
+WORKERS = cores()
 
 #: Arrays shorter than this are not split between threads.
 MIN_SPLIT = 32
