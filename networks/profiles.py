@@ -1,4 +1,4 @@
-"""Curvature profiles and turn angles of many polylines at once (vectorised numpy).
+"""Curvature profiles and turn angles of many polylines at once (compiled loops).
 
 The method (see :mod:`networks.geometry`): the heading of a line is known at the midpoint of
 each chord and interpolated linearly in between, so the turn at a vertex is spread over the
@@ -8,16 +8,20 @@ far on (SUMO writes coordinates to 0.01 m, a heading noise of 1° on 0.5 m chord
 pass widens the window to half the radius found (up to ``max_window_m``) so that rounding
 does not make wide curves look tight.
 
-All lines are concatenated and processed in chunks, so that the per-call cost of numpy is
-paid per chunk, not per line.
+All lines are concatenated and processed in chunks, so that the per-call cost of numpy and
+of the compiled loops (:mod:`networks.profile_kernel`) is paid per chunk, not per line.
 """
 
 from __future__ import annotations
 
 from collections.abc import Sequence
 from dataclasses import dataclass
+from itertools import repeat
 
 import numpy as np
+
+from networks.profile_kernel import chord_frame, station_profiles
+from networks.reader import gc_paused
 
 #: Chords shorter than this (m) are extended before headings are taken.
 MIN_CHORD_M = 1.5
@@ -27,8 +31,6 @@ MAX_WINDOW_M = 15.0
 
 #: Lines per chunk (bounds the memory of the station arrays).
 CHUNK_LINES = 20000
-
-_GAP_M = 10.0  # key distance between consecutive lines
 
 
 @dataclass(frozen=True, slots=True)
@@ -49,7 +51,15 @@ class Stations:
     step_m: float
 
     def array(self) -> np.ndarray:
-        """The stations (metres)."""
+        """The stations (metres).
+
+        Examples
+        --------
+        One station where the stations start and stop at the same place:
+
+        >>> Stations(3.0, 3.0, 1, 0.25).array().tolist()
+        [3.0]
+        """
         return np.minimum(self.start_m + self.step_m * np.arange(self.count), self.stop_m)
 
 
@@ -81,13 +91,19 @@ def profiles(
     Parameters
     ----------
     lines
-        Polylines (N, ≥2) without repeated points.
+        Polylines (N, ≥2) without repeated points, finite coordinates (x, y, and any more
+        columns, which are not read; taken as float64).
     core_from_m, core_to_m
         The core of each line (plane arc length); ``min_radius_m`` is taken over it, and
         ``turn_deg`` is the heading change from the chord entering it to the chord leaving
         it (degrees, left positive, unwrapped).
     margin_m
         Stations extend this far either side of the core (default: ``window_m``).
+
+    Raises
+    ------
+    ValueError
+        A line of fewer than two points.
 
     Examples
     --------
@@ -99,6 +115,14 @@ def profiles(
     (20.0, 90.0)
     >>> p.min_radius_m[1], p.turn_deg[1]
     (np.float64(inf), np.float64(0.0))
+
+    The straight line is straight at every station; no lines, no profiles:
+
+    >>> p.curvature_per_m[1].tolist() == [0.0] * 21, p.radius_m[1].max()
+    (True, np.float64(inf))
+    >>> q = profiles([], [], [])
+    >>> q.s_m, q.stations, q.min_radius_m.shape
+    ([], [], (0,))
     """
     margin = window_m if margin_m is None else margin_m
     out_s: list[np.ndarray] = []
@@ -109,25 +133,26 @@ def profiles(
     stations: list[Stations] = []
     a_all = np.asarray(core_from_m, dtype=float)
     b_all = np.asarray(core_to_m, dtype=float)
-    for lo in range(0, len(lines), CHUNK_LINES):
-        hi = min(lo + CHUNK_LINES, len(lines))
-        s, k, r, m, t, st = _chunk(
-            lines[lo:hi],
-            a_all[lo:hi],
-            b_all[lo:hi],
-            step_m,
-            window_m,
-            margin,
-            adaptive,
-            min_chord_m,
-            max_window_m,
-        )
-        out_s += s
-        out_k += k
-        out_r += r
-        mins.append(m)
-        turns.append(t)
-        stations += st
+    with gc_paused():  # a few objects per line, all kept: nothing for the collector to free
+        for lo in range(0, len(lines), CHUNK_LINES):
+            hi = min(lo + CHUNK_LINES, len(lines))
+            s, k, r, m, t, st = _chunk(
+                lines[lo:hi],
+                a_all[lo:hi],
+                b_all[lo:hi],
+                step_m,
+                window_m,
+                margin,
+                adaptive,
+                min_chord_m,
+                max_window_m,
+            )
+            out_s += s
+            out_k += k
+            out_r += r
+            mins.append(m)
+            turns.append(t)
+            stations += st
     empty = np.zeros(0)
     return Profiles(
         out_s,
@@ -139,106 +164,70 @@ def profiles(
     )
 
 
-def _chunk(lines, a, b, step, window, margin, adaptive, min_chord, max_window):
+def _chunk(
+    lines: Sequence[np.ndarray],
+    a: np.ndarray,
+    b: np.ndarray,
+    step: float,
+    window: float,
+    margin: float,
+    adaptive: bool,
+    min_chord: float,
+    max_window: float,
+) -> tuple[
+    list[np.ndarray], list[np.ndarray], list[np.ndarray], np.ndarray, np.ndarray, list[Stations]
+]:
+    """:func:`profiles` of one chunk of lines: stations, curvature and radius per line, and
+    the smallest radii, turn angles (degrees) and :class:`Stations` of the lines.
+
+    The loops are compiled (:mod:`networks.profile_kernel`); numpy takes the headings of the
+    chords between them.
+
+    Examples
+    --------
+    A straight line 2 m long, core 0.5-1.5 m, stations every 0.5 m and 0.5 m either side:
+
+    >>> s, k, r, min_r, turn, st = _chunk(
+    ...     [np.array([[0.0, 0.0], [2.0, 0.0]])], np.array([0.5]), np.array([1.5]),
+    ...     0.5, 3.0, 0.5, True, MIN_CHORD_M, MAX_WINDOW_M)
+    >>> s[0].tolist(), k[0].tolist(), min_r.tolist(), turn.tolist()
+    ([0.0, 0.5, 1.0, 1.5, 2.0], [0.0, 0.0, 0.0, 0.0, 0.0], [inf], [0.0])
+    >>> st
+    [Stations(start_m=0.0, stop_m=2.0, count=5, step_m=0.5)]
+    """
     n = len(lines)
-    counts = np.fromiter((len(x) for x in lines), dtype=np.int64, count=n)
+    counts = np.fromiter(map(len, lines), dtype=np.int64, count=n)
     if np.any(counts < 2):
         raise ValueError("every line needs at least two points")
-    pts = np.concatenate([x[:, :2] for x in lines])
-    start = np.concatenate(([0], np.cumsum(counts)[:-1]))
-    last = start + counts - 1
-    line_of = np.repeat(np.arange(n), counts)
-    d = pts[1:] - pts[:-1]
-    seg = np.hypot(d[:, 0], d[:, 1])
-    seg[start[1:] - 1] = 0.0  # no chord between one line's end and the next line's start
-    s_glob = np.concatenate(([0.0], np.cumsum(seg)))
-    total = s_glob[last] - s_glob[start]
-    key = s_glob + line_of * _GAP_M
-    base = key[start]
-
-    # extended chords -> headings at knots (one per point but the last of each line)
-    not_last = np.ones(len(pts), dtype=bool)
-    not_last[last] = False
-    ii = np.flatnonzero(not_last)
-    jj = np.searchsorted(key, key[ii] + min_chord, side="left")
-    jj = np.maximum(np.minimum(jj, last[line_of[ii]]), ii + 1)
-    vec = pts[jj] - pts[ii]
-    knot = 0.5 * (key[ii] + key[jj])
-    h = _unwrap_per_line(np.arctan2(vec[:, 1], vec[:, 0]), line_of[ii])
-    first_knot = knot[start - np.arange(n)]  # index of line c's first knot: start_c - c
-    last_knot = knot[last - np.arange(n) - 1]
-
-    # stations
-    lo = np.clip(a - margin, 0.0, total)
-    hi = np.clip(b + margin, lo, total)
-    n_st = np.floor((hi - lo) / step + 1e-9).astype(np.int64) + 1
-    st_line = np.repeat(np.arange(n), n_st)
-    st_start = np.concatenate(([0], np.cumsum(n_st)[:-1]))
-    within = np.arange(int(n_st.sum())) - np.repeat(st_start, n_st)
-    s_st = np.minimum(lo[st_line] + step * within, hi[st_line])
-    k_base = base[st_line]
-    k_tot = total[st_line]
-    k_first = first_knot[st_line]
-    k_last = last_knot[st_line]
-
-    def fit(half):
-        w_lo = np.maximum(s_st - half, 0.0)
-        w_hi = np.minimum(s_st + half, k_tot)
-        span = w_hi - w_lo
-        x_lo = np.clip(k_base + w_lo, k_first, k_last)
-        x_hi = np.clip(k_base + w_hi, k_first, k_last)
-        dh = np.interp(x_hi, knot, h) - np.interp(x_lo, knot, h)
-        return np.where(span > 1e-9, dh / np.maximum(span, 1e-9), 0.0)
-
-    k = fit(0.5 * window)
-    if adaptive:
-        wide = np.clip(0.5 / np.maximum(np.abs(k), 1e-9), window, max_window)
-        k = fit(0.5 * wide)
-
-    # smallest radius over each core
-    abs_k = np.abs(k)
-    inside = (s_st >= a[st_line] - 1e-9) & (s_st <= b[st_line] + 1e-9)
-    max_k = np.maximum.reduceat(np.where(inside, abs_k, 0.0), st_start)
-    with np.errstate(divide="ignore"):
-        min_r = np.where(max_k > 1e-12, 1.0 / np.maximum(max_k, 1e-300), np.inf)
-
-    # turn angle from raw chords
-    seg_ok = np.ones(len(pts) - 1, dtype=bool) if len(pts) > 1 else np.zeros(0, dtype=bool)
-    seg_ok[start[1:] - 1] = False
-    raw = np.arctan2(d[:, 1], d[:, 0])
-    raw_u = _unwrap_per_line(raw, line_of[:-1], seg_ok)
-    i_ch = np.searchsorted(key, base + a - 1e-6, side="left") - 1
-    j_ch = np.searchsorted(key, base + b + 1e-6, side="right") - 1
-    i_ch = np.clip(i_ch, start, last - 1)
-    j_ch = np.clip(j_ch, start, last - 1)
-    turn = np.degrees(raw_u[j_ch] - raw_u[i_ch])
-
-    with np.errstate(divide="ignore"):
-        radius = np.where(abs_k > 1e-12, 1.0 / np.maximum(abs_k, 1e-300), np.inf)
-    bounds = np.cumsum(n_st)[:-1].tolist()
-    starts = [0, *bounds]
-    ends = [*bounds, len(s_st)]
-    split = [(s_st[i:j], k[i:j], radius[i:j]) for i, j in zip(starts, ends, strict=True)]
-    stations = [
-        Stations(a_, b_, c_, step)
-        for a_, b_, c_ in zip(lo.tolist(), hi.tolist(), n_st.tolist(), strict=True)
-    ]
-    out = [x[0] for x in split], [x[1] for x in split], [x[2] for x in split], min_r, turn
-    return (*out, stations)
-
-
-def _unwrap_per_line(angles: np.ndarray, line_of: np.ndarray, ok: np.ndarray | None = None):
-    """Unwrap angles within each line (jumps between lines and at ``~ok`` are not counted)."""
-    if len(angles) == 0:
-        return angles
-    dh = np.diff(angles)
-    dh -= 2 * np.pi * np.round(dh / (2 * np.pi))
-    same = line_of[1:] == line_of[:-1]
-    if ok is not None:
-        same &= ok[1:] & ok[:-1]
-    dh = np.where(same, dh, 0.0)
-    out = np.concatenate(([0.0], np.cumsum(dh)))
-    # re-anchor each run at its own first angle so values stay near the raw ones
-    run_start = np.concatenate(([True], ~same))
-    anchor = np.maximum.accumulate(np.where(run_start, np.arange(len(angles)), 0))
-    return out - out[anchor] + angles[anchor]
+    try:  # x, y (and z, not read) of every point; lines of mixed widths need slicing
+        pts = np.concatenate(lines)
+    except ValueError:
+        pts = np.empty((0, 0))
+    if pts.ndim != 2 or pts.shape[1] < 2:
+        pts = np.concatenate([x[:, :2] for x in lines])
+        if pts.shape[1] < 2:
+            raise ValueError("every line needs x and y")
+    pts = pts.astype(np.float64, copy=False)
+    s, key, knot, kx, ky, cx, cy = chord_frame(pts, counts, float(min_chord))
+    lo, hi, n_st, s_st, k, radius, min_r, turn = station_profiles(
+        s,
+        key,
+        counts,
+        knot,
+        np.arctan2(ky, kx),
+        np.arctan2(cy, cx),
+        np.ascontiguousarray(a, dtype=np.float64),
+        np.ascontiguousarray(b, dtype=np.float64),
+        float(step),
+        float(window),
+        float(margin),
+        bool(adaptive),
+        float(max_window),
+    )
+    bounds = np.cumsum(n_st).tolist()
+    starts = [0, *bounds[:-1]]
+    out_s = [s_st[i:j] for i, j in zip(starts, bounds, strict=True)]
+    out_k = [k[i:j] for i, j in zip(starts, bounds, strict=True)]
+    out_r = [radius[i:j] for i, j in zip(starts, bounds, strict=True)]
+    stations = list(map(Stations, lo.tolist(), hi.tolist(), n_st.tolist(), repeat(step, n)))
+    return out_s, out_k, out_r, min_r, np.degrees(turn), stations
