@@ -275,9 +275,10 @@ def find_turns(
     approach = opts.approach_length_m
     junction_ids: dict[str, str] = {}  # one string per junction, shared by its turns
     for conn in net.connections:
-        if not conn.via or conn.from_edge.startswith(":"):
+        from_edge, to_edge, from_index, to_index, via, _ = conn
+        if not via or from_edge.startswith(":"):
             continue
-        from_lane, to_lane = conn.from_lane, conn.to_lane
+        from_lane, to_lane = f"{from_edge}_{from_index}", f"{to_edge}_{to_index}"
         a, b = lanes.get(from_lane), lanes.get(to_lane)
         if a is None or b is None or a.function == "internal":
             continue

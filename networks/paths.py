@@ -9,6 +9,7 @@ wanted (preferring straight-on connections), the exit forward likewise.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from itertools import compress
 
 import numpy as np
 
@@ -49,15 +50,18 @@ def via_lanes(net: Network, conn: Connection) -> list[str] | None:
     """
     out: list[str] = []
     via = conn.via
+    to_edge = conn.to_edge
+    lanes, outgoing = net.lanes, net.outgoing
     while via:
-        if via in out or via not in net.lanes or len(out) > 8:
+        if via in out or via not in lanes or len(out) > 8:
             return None
         out.append(via)
-        outs = net.outgoing(via)
-        nxt = [c for c in outs if c.to_edge == conn.to_edge] or outs
-        if not nxt:
+        outs = outgoing(via)
+        if not outs:
             return None
-        via = nxt[0].via
+        # the first connection on towards the connection's edge, else the first one
+        nxt = next((c for c in outs if c.to_edge == to_edge), outs[0])
+        via = nxt.via
     return out
 
 
@@ -300,7 +304,7 @@ def realise(net: Network, plans: list[PathPlan], table: LaneTable | None = None)
         f = first_piece[c]
         own = plan.lanes if names is None else names[f : f + len(plan.lanes)]
         core = tuple(own[plan.n_before : plan.n_before + plan.n_core])
-        lanes = tuple(k for i, k in enumerate(own) if on_list[f + i]) or core
+        lanes = tuple(compress(own, on_list[f : f + len(own)])) or core
         paths.append(Path(lanes, lines[c], starts_l[c], ends_l[c], core))
     return paths
 

@@ -200,9 +200,9 @@ class Network:
     def _index(self) -> tuple[dict[str, list[Connection]], dict[str, list[Connection]]]:
         out: dict[str, list[Connection]] = defaultdict(list)
         inc: dict[str, list[Connection]] = defaultdict(list)
-        for c in self.connections:
-            out[c.from_lane].append(c)
-            inc[c.to_lane].append(c)
+        for c in self.connections:  # the lane ids as the from_lane / to_lane properties make them
+            out[f"{c[0]}_{c[2]}"].append(c)
+            inc[f"{c[1]}_{c[3]}"].append(c)
         return dict(out), dict(inc)
 
 
