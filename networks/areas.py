@@ -216,12 +216,17 @@ def _pool() -> ThreadPoolExecutor:
     return _POOL[1]
 
 
-def _threaded(func: Callable[..., np.ndarray], *arrays: np.ndarray) -> np.ndarray:
+def _threaded(
+    func: Callable[..., np.ndarray], *arrays: np.ndarray, runs: np.ndarray | None = None
+) -> np.ndarray:
     """``func(*arrays)`` computed on :data:`WORKERS` slices of the arrays at once.
 
     ``func`` must work row by row (a vectorised shapely call), so that the slices'
     results concatenated are its result on the whole. Where the thread may not spread work
-    (:func:`_may_split`), it runs in that thread alone.
+    (:func:`_may_split`), it runs in that thread alone. With ``runs`` (a label per row,
+    equal labels consecutive), no cut falls inside a run of equal labels: rows that use
+    one prepared geometry stay in one thread (GEOS builds a prepared geometry's indexes on
+    first use, which two threads must not do at once: libgeos/geos#825).
 
     Examples
     --------
@@ -236,6 +241,10 @@ def _threaded(func: Callable[..., np.ndarray], *arrays: np.ndarray) -> np.ndarra
     if n < MIN_SPLIT or not _may_split():
         return func(*arrays)
     bounds = np.linspace(0, n, WORKERS + 1).astype(int)
+    if runs is not None:  # each inner cut moved on to the next change of label
+        changes = np.append(np.flatnonzero(runs[1:] != runs[:-1]) + 1, n)
+        inner = changes[np.searchsorted(changes, bounds[1:-1])]
+        bounds = np.unique(np.concatenate(([0], inner, [n])))
     cuts = list(zip(bounds[:-1], bounds[1:], strict=True))
     pool = _pool()
     # the last slice in this thread, the others on the pool's
@@ -462,7 +471,7 @@ def _paved(
     shapely.prepare(first)
     row_of = np.repeat(np.arange(len(inner_rows)), [len(r) for r in inner_rows])
     inner = np.array([i for r in inner_rows for i in r], dtype=np.intp)
-    covered = _threaded(shapely.covers, first[row_of], geoms[inner])
+    covered = _threaded(shapely.covers, first[row_of], geoms[inner], runs=row_of)
     shapely.destroy_prepared(first)
     rest: list[list[int]] = [[] for _ in range(len(first))]
     for g, i in zip(row_of[~covered].tolist(), inner[~covered].tolist(), strict=True):

@@ -118,3 +118,26 @@ def test_rows_sharing_their_first_two_entries_union_them_once(monkeypatch):
     assert [round(float(a.area), 9) for a in out] == [6.0, 6.0, 6.0, 3.0]
     assert calls[0] == 2  # (0, 1) and (1, 0): two first unions for four rows
     assert shapely.to_wkb(out[0]) == shapely.to_wkb(out[1])
+
+
+@pytest.mark.parametrize("workers", [2, 3])
+def test_threaded_never_cuts_a_run_of_equal_labels(monkeypatch, workers):
+    from networks import areas
+
+    monkeypatch.setattr(areas, "WORKERS", workers)
+    monkeypatch.setattr(areas, "MIN_SPLIT", 2)
+    labels = np.repeat(np.arange(7), [5, 1, 9, 2, 2, 8, 3])
+    seen = []
+
+    def record(x):
+        seen.append(x.copy())
+        return x * 10
+
+    out = areas._threaded(record, labels, runs=labels)
+    assert (out == labels * 10).all()
+    assert len(seen) > 1  # split ...
+    for s in seen:  # ... but no label in two slices
+        assert all(not set(s.tolist()) & set(o.tolist()) for o in seen if o is not s)
+    one_run = np.zeros(40, dtype=int)
+    seen.clear()
+    assert (areas._threaded(record, one_run, runs=one_run) == 0).all() and len(seen) == 1
