@@ -45,7 +45,7 @@ import threading
 from collections.abc import Callable, Sequence
 from concurrent.futures import ThreadPoolExecutor
 from functools import partial
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, NamedTuple
 
 import numpy as np
 import shapely
@@ -93,12 +93,21 @@ def lane_polygons(
     if not lane_ids:
         return np.empty(0, dtype=object)
     lanes = [net.lanes[k] for k in lane_ids]
-    shapes = [lane.shape for lane in lanes]
-    counts = np.fromiter(map(len, shapes), dtype=np.intp, count=len(shapes))
-    points = np.vstack(shapes)[:, :2]
+    counts = np.fromiter((len(lane.shape) for lane in lanes), dtype=np.intp, count=len(lanes))
+    points = np.vstack([lane.shape for lane in lanes])[:, :2]
     radius = np.fromiter((lane.width_m for lane in lanes), float, len(lanes)) / 2.0 + grow_m
-    out = np.empty(len(lanes), dtype=object)
-    rest = np.arange(len(lanes))
+    return _lane_polygons(points, counts, radius, cap_style)
+
+
+def _lane_polygons(
+    points: np.ndarray, counts: np.ndarray, radius: np.ndarray, cap_style: str
+) -> np.ndarray:
+    """:func:`lane_polygons` of lanes given as points (lane after lane), point counts and
+    buffer radii."""
+    out = np.empty(len(counts), dtype=object)
+    if not len(counts):
+        return out
+    rest = np.arange(len(counts))
     if cap_style == "round":  # straight lanes: their stadiums built in numpy, as GEOS would
         first = np.concatenate(([0], np.cumsum(counts)[:-1]))
         two = np.flatnonzero(counts == 2)
@@ -108,7 +117,7 @@ def lane_polygons(
         out[two] = segment_buffers(p0, p1, radius[two], quad_segs=4)
         rest = np.setdiff1d(rest, two, assume_unique=True)
     if len(rest):
-        take = np.repeat(np.isin(np.arange(len(lanes)), rest), counts)
+        take = np.repeat(np.isin(np.arange(len(counts)), rest), counts)
         index = np.repeat(np.arange(len(rest)), counts[rest])
         lines = shapely.linestrings(points[take], indices=index)
         buffer = partial(shapely.buffer, cap_style=cap_style, join_style="round", quad_segs=4)
@@ -118,13 +127,23 @@ def lane_polygons(
 
 def own_lane_polygons(curves: Sequence[Curve]) -> np.ndarray:
     """Each curve's centre line buffered by half its lane width (vectorised)."""
+    return _own_polygons(*_own_arrays(curves))
+
+
+def _own_arrays(curves: Sequence[Curve]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The curves' centre lines (x, y; curve after curve), point counts and half widths."""
     if not curves:
+        return np.empty((0, 2)), np.empty(0, dtype=np.intp), np.empty(0)
+    counts = np.fromiter((len(c.centerline) for c in curves), np.intp, len(curves))
+    points = np.vstack([c.centerline for c in curves])[:, :2]
+    half = np.fromiter((c.lane_width_m for c in curves), float, len(curves)) / 2.0
+    return points, counts, half
+
+
+def _own_polygons(points: np.ndarray, counts: np.ndarray, half: np.ndarray) -> np.ndarray:
+    if not len(counts):
         return np.empty(0, dtype=object)
-    shapes = [c.centerline[:, :2] for c in curves]
-    counts = np.array([len(s) for s in shapes])
-    index = np.repeat(np.arange(len(shapes)), counts)
-    lines = shapely.linestrings(np.vstack(shapes), indices=index)
-    half = np.array([c.lane_width_m / 2.0 for c in curves])
+    lines = shapely.linestrings(points, indices=np.repeat(np.arange(len(counts)), counts))
     buffer = partial(shapely.buffer, cap_style="flat", join_style="round", quad_segs=4)
     return _threaded(buffer, lines, half)
 
@@ -292,19 +311,27 @@ def junction_polygons(net: Network, junction_ids: Sequence[str]) -> np.ndarray:
     >>> round(float(junction_polygons(net, ["J"])[0].area), 3)  # (4 + 2 mm)^2
     16.016
     """
-    out = np.empty(len(junction_ids), dtype=object)
     shapes = [net.junctions[j].shape for j in junction_ids]
-    some = np.flatnonzero([len(x) >= 3 for x in shapes])
+    counts = np.fromiter(map(len, shapes), dtype=np.intp, count=len(shapes))
+    points = np.vstack(shapes)[:, :2] if shapes else np.empty((0, 2))
+    return _junction_polygons(points, counts)
+
+
+def _junction_polygons(points: np.ndarray, counts: np.ndarray) -> np.ndarray:
+    """:func:`junction_polygons` of shapes given as points (junction after junction) and
+    point counts."""
+    out = np.empty(len(counts), dtype=object)
+    some = np.flatnonzero(counts >= 3)
     if not len(some):
         return out
-    counts = np.fromiter((len(shapes[i]) for i in some), dtype=np.intp, count=len(some))
+    first = np.concatenate(([0], np.cumsum(counts)[:-1]))
+    take = np.repeat(counts >= 3, counts)
     try:  # all rings at once (each closed as shapely.Polygon closes it)
-        rings = shapely.linearrings(
-            np.vstack([shapes[i] for i in some])[:, :2], indices=np.repeat(np.arange(len(some)),
-                                                                           counts))
+        rings = shapely.linearrings(points[take], indices=np.repeat(np.arange(len(some)),
+                                                                    counts[some]))
         out[some] = shapely.polygons(rings)
     except (ValueError, shapely.errors.GEOSException):  # a ring of fewer than three distinct points
-        out[some] = [shapely.Polygon(shapes[i][:, :2]) for i in some]
+        out[some] = [shapely.Polygon(points[first[i] : first[i] + counts[i]]) for i in some]
     out[some] = shapely.buffer(shapely.make_valid(out[some]), SEAL_M, quad_segs=1,
                                join_style="mitre")
     return out
@@ -380,13 +407,10 @@ def _halfway(curves: Sequence[Curve]) -> int:
 
 def _build(index: AreaIndex, curves: Sequence[Curve]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """:func:`build_areas` of one run of curves, in this thread (with helpers when it may)."""
-    # the own lanes (GEOS, without the GIL) are buffered on a worker thread meanwhile
-    own = _pool().submit(own_lane_polygons, curves) if _may_split() else None
     plan = BatchPlan(index)
     of = np.array([plan.add(c) for c in curves], dtype=np.intp)
-    roadway, paved = _build_groups(plan)
-    own_lanes = own_lane_polygons(curves) if own is None else own.result()
-    return own_lanes, roadway[of[:, 0]], paved[of[:, 1]]
+    own, roadway, paved = run_job(make_job(plan, curves))
+    return own, roadway[of[:, 0]], paved[of[:, 1]]
 
 
 def attach_areas(net: Network, curves: Sequence[Curve]) -> None:
@@ -404,8 +428,30 @@ def attach_areas(net: Network, curves: Sequence[Curve]) -> None:
         curve.set_areas(o, r, p)
 
 
-def _build_groups(plan: BatchPlan) -> tuple[np.ndarray, np.ndarray]:
-    """The geometry of every roadway group and paved group of a plan."""
+class Job(NamedTuple):
+    """What a run of curves' areas are made from, as plain arrays and index rows (no
+    network, no curves): made by :func:`make_job` and built by :func:`run_job`, in this
+    process or in another (:mod:`networks.area_worker`).
+
+    Rows index *members*: the lanes (0 ..), then the junctions, then the pieces.
+    """
+
+    lane_points: np.ndarray  # (n, 2): the shapes of the lanes, lane after lane
+    lane_counts: np.ndarray  # points per lane
+    lane_radius: np.ndarray  # half width + SEAL_M
+    junction_points: np.ndarray  # (m, 2): the junction shapes
+    junction_counts: np.ndarray  # points per junction (under three: no polygon)
+    pieces: list[list[int]]  # the lanes of each piece
+    road_rows: list[list[int]]  # the members of each roadway group
+    paved_base: list[list[int]]  # the members of each paved group but its internal lanes
+    paved_inner: list[list[int]]  # its internal lanes (lanes not already in the base)
+    own_points: np.ndarray  # (k, 2): the centre lines of the curves
+    own_counts: np.ndarray  # points per centre line
+    own_half: np.ndarray  # half lane width of each curve
+
+
+def make_job(plan: BatchPlan, curves: Sequence[Curve]) -> Job:
+    """The :class:`Job` of a plan's groups and of the curves' own lanes (Python only)."""
     lane_at: dict[str, int] = {}
     for lanes in plan.pieces.values():
         for k in lanes:
@@ -417,18 +463,22 @@ def _build_groups(plan: BatchPlan) -> tuple[np.ndarray, np.ndarray]:
                 lane_at.setdefault(m[2:], len(lane_at))
             elif m[0] == "J":
                 junction_ids.setdefault(m[2:], len(junction_ids))
-    n_lanes = len(lane_at)
-    geoms = np.concatenate((
-        lane_polygons(plan.net, list(lane_at), "round", grow_m=SEAL_M),
-        junction_polygons(plan.net, list(junction_ids)),
-    ))
+    net = plan.net
+    lanes = [net.lanes[k] for k in lane_at]
+    lane_counts = np.fromiter((len(x.shape) for x in lanes), np.intp, len(lanes))
+    lane_points = np.vstack([x.shape for x in lanes])[:, :2] if lanes else np.empty((0, 2))
+    radius = np.fromiter((x.width_m for x in lanes), float, len(lanes)) / 2.0 + SEAL_M
+    shapes = [net.junctions[j].shape for j in junction_ids]
+    junction_counts = np.fromiter(map(len, shapes), np.intp, len(shapes))
+    junction_points = np.vstack(shapes)[:, :2] if shapes else np.empty((0, 2))
     # pieces with the same lanes (an edge's lanes that are all road lanes) share one union
+    n_base = len(lane_at) + len(junction_ids)
     rows_of: dict[tuple[int, ...], int] = {}
     piece_at = {}
-    for key, lanes in plan.pieces.items():
-        row = tuple(lane_at[k] for k in lanes)
-        piece_at[key] = len(geoms) + rows_of.setdefault(row, len(rows_of))
-    all_geoms = np.concatenate((geoms, _union_rows([list(r) for r in rows_of], geoms, seal=False)))
+    for key, piece in plan.pieces.items():
+        row = tuple(lane_at[k] for k in piece)
+        piece_at[key] = n_base + rows_of.setdefault(row, len(rows_of))
+    n_lanes = len(lane_at)
 
     def at(member: str) -> int:
         kind = member[0]
@@ -438,20 +488,9 @@ def _build_groups(plan: BatchPlan) -> tuple[np.ndarray, np.ndarray]:
             return n_lanes + junction_ids[member[2:]]
         return piece_at[member]
 
-    roadway = _union_rows([[at(m) for m in g] for g in plan.road_groups], all_geoms)
-    return roadway, _paved(plan, geoms, all_geoms, at, lane_at)
-
-
-def _paved(
-    plan: BatchPlan,
-    geoms: np.ndarray,
-    all_geoms: np.ndarray,
-    at: Callable[[str], int],
-    lane_at: dict[str, int],
-) -> np.ndarray:
-    """Paved areas: the union of each group's plain lanes, edges and junction polygon
-    first, then of that with the internal lanes it does not already cover (most lie
-    inside the junction polygon: leaving them out is the same union, much cheaper)."""
+    # a paved area: the union of its plain lanes, edges and junction polygon first, then
+    # of that with the internal lanes it does not already cover (most lie inside the
+    # junction polygon: leaving them out is the same union, much cheaper)
     base_rows: list[list[int]] = []
     inner_rows: list[list[int]] = []
     for members in plan.paved_groups:
@@ -467,8 +506,40 @@ def _paved(
         in_base = set(base)
         base_rows.append(base)
         inner_rows.append([i for i in (lane_at[k] for k in sorted(inner)) if i not in in_base])
-    first = _union_rows(base_rows, all_geoms, seal=False, pairwise_max=PAIRWISE_MAX)
+    return Job(
+        lane_points, lane_counts, radius, junction_points, junction_counts,
+        [list(r) for r in rows_of], [[at(m) for m in g] for g in plan.road_groups],
+        base_rows, inner_rows, *_own_arrays(curves),
+    )
+
+
+def run_job(job: Job) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The geometry of a :class:`Job`: the curves' own lanes, then every roadway group's
+    area and every paved group's area (GEOS only, through vectorised shapely calls).
+
+    Examples
+    --------
+    >>> from networks.area_groups import AreaIndex
+    >>> from networks.curves import extract_curves
+    >>> from networks.reader import read_network
+    >>> net = read_network("networks/samples/intersection/intersection.net.xml")
+    >>> curves = extract_curves(net, areas=False)
+    >>> plan = BatchPlan(AreaIndex(net))
+    >>> groups = [plan.add(c) for c in curves]
+    >>> own, roadway, paved = run_job(make_job(plan, curves))
+    >>> len(own) == len(curves), len(roadway) == len(plan.road_groups), len(paved)
+    (True, True, 2)
+    """
+    own = _own_polygons(job.own_points, job.own_counts, job.own_half)
+    geoms = np.concatenate((
+        _lane_polygons(job.lane_points, job.lane_counts, job.lane_radius, "round"),
+        _junction_polygons(job.junction_points, job.junction_counts),
+    ))
+    all_geoms = np.concatenate((geoms, _union_rows(job.pieces, geoms, seal=False)))
+    roadway = _union_rows(job.road_rows, all_geoms)
+    first = _union_rows(job.paved_base, all_geoms, seal=False, pairwise_max=PAIRWISE_MAX)
     shapely.prepare(first)
+    inner_rows = job.paved_inner
     row_of = np.repeat(np.arange(len(inner_rows)), [len(r) for r in inner_rows])
     inner = np.array([i for r in inner_rows for i in r], dtype=np.intp)
     covered = _threaded(shapely.covers, first[row_of], geoms[inner], runs=row_of)
@@ -477,12 +548,12 @@ def _paved(
     for g, i in zip(row_of[~covered].tolist(), inner[~covered].tolist(), strict=True):
         rest[g].append(i)
     # the lanes that stick out are unioned together first, then with the rest
-    out = first.copy()
+    paved = first.copy()
     some = np.flatnonzero([len(r) > 0 for r in rest])
     if len(some):
         lanes = _union_rows([rest[g] for g in some], geoms, seal=False)
-        out[some] = _threaded(shapely.union, first[some], lanes)
-    return _seal(out)
+        paved[some] = _threaded(shapely.union, first[some], lanes)
+    return own, roadway, _seal(paved)
 
 
 #: Paved areas of up to this many pieces and polygons are unioned pairwise (see
