@@ -64,6 +64,7 @@ SEAL_M = 1e-3
 MIN_HOLE_M2 = 1.0
 
 if TYPE_CHECKING:
+    from networks.area_worker import AreaWorker
     from networks.curves import Curve
 
 
@@ -344,16 +345,27 @@ def build_areas(
 
     Curves with the same roadway members share one object, and so do those with the same
     paved members (one paved area per junction, one roadway per movement), within each
-    half: with more than one worker, at least :data:`HALVES_MIN` curves are built as two
-    halves at once (cut where the junction changes), one on a worker thread, so that the
-    grouping of one half (Python) runs while the other's shapely calls run. The lanes,
-    junction polygons and pieces are made for this call only.
+    part. With more than one worker, at least :data:`HALVES_MIN` curves are built as two
+    parts at once (cut where the junction changes): by default the second part by a worker
+    process (:mod:`networks.area_worker`, :data:`PROCESS_SHARE` of the curves) while this
+    thread groups and builds the first; without it (``CLEARANCE_PROCESS=0``, or when the
+    worker cannot be used) as two halves on two threads, the grouping of one (Python)
+    running while the other's shapely calls run. The lanes, junction polygons and pieces
+    are made for this call only. The areas are the same whichever way they are built.
     """
     if not curves:
         empty = np.empty(0, dtype=object)
         return empty, empty, empty
     with gc_paused():
-        cut = _halfway(curves) if len(curves) >= HALVES_MIN and _may_split() else 0
+        large = len(curves) >= HALVES_MIN and _may_split()
+        if large and use_process():
+            from networks import area_worker
+
+            helper = area_worker.worker()
+            cut = _halfway(curves, 1.0 - PROCESS_SHARE)
+            if helper is not None and cut:
+                return _build_with(helper, index, curves, cut)
+        cut = _halfway(curves) if large else 0
         if not cut:
             return _build(index, curves)
         other = _pool().submit(_build, index, curves[cut:])
@@ -365,6 +377,42 @@ def build_areas(
         second = other.result()
         own, roadway, paved = (np.concatenate(p) for p in zip(first, second, strict=True))
         return own, roadway, paved
+
+
+def _build_with(
+    helper: AreaWorker, index: AreaIndex, curves: Sequence[Curve], cut: int
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """:func:`build_areas` with the curves from ``cut`` on built by a worker process."""
+    from networks import area_worker
+
+    plan = BatchPlan(index)
+    of = np.array([plan.add(c) for c in curves[cut:]], dtype=np.intp)
+    job = make_job(plan, curves[cut:])
+    sent = helper.send(job)
+    _local.alone = True  # the other core is the worker's
+    try:
+        first = _build(index, curves[:cut])
+    finally:
+        _local.alone = False
+    got = helper.receive() if sent else None
+    if got is None:  # the worker failed: this part is built here, and later ones too
+        area_worker.give_up()
+        got = run_job(job)
+    own, roadway, paved = got
+    second = own, roadway[of[:, 0]], paved[of[:, 1]]
+    own, roadway, paved = (np.concatenate(p) for p in zip(first, second, strict=True))
+    return own, roadway, paved
+
+
+def use_process() -> bool:
+    """Whether large batches use a worker process (not when the environment variable
+    ``CLEARANCE_PROCESS`` is ``0``)."""
+    return os.environ.get("CLEARANCE_PROCESS", "1").strip() != "0"
+
+
+#: The share of a large batch's curves a worker process builds (this process also groups
+#: the worker's curves and reads back its areas).
+PROCESS_SHARE = 0.55
 
 
 #: Batches of at least this many curves are built in two halves at once (:func:`build_areas`).
@@ -383,23 +431,23 @@ def _may_split() -> bool:
     )
 
 
-def _halfway(curves: Sequence[Curve]) -> int:
-    """Where to cut curves in two halves: the first change of junction from the middle on
-    (or before it); 0 when all are at one junction.
+def _halfway(curves: Sequence[Curve], at: float = 0.5) -> int:
+    """Where to cut curves in two parts: the first change of junction from ``at`` of the
+    way on (or before it); 0 when all are at one junction.
 
     Examples
     --------
     >>> from types import SimpleNamespace as NS
     >>> _halfway([NS(junction=j) for j in "AAABBC"]), _halfway([NS(junction=j) for j in "AAAAB"])
     (3, 4)
-    >>> _halfway([NS(junction="A")] * 4)
-    0
+    >>> _halfway([NS(junction=j) for j in "ABCDEFGHIJ"], 0.3), _halfway([NS(junction="A")] * 4)
+    (3, 0)
     """
-    mid = len(curves) // 2
+    mid = int(len(curves) * at)
     for i in range(max(mid, 1), len(curves)):
         if curves[i].junction != curves[i - 1].junction:
             return i
-    for i in range(mid - 1, 0, -1):
+    for i in range(min(mid, len(curves)) - 1, 0, -1):
         if curves[i].junction != curves[i - 1].junction:
             return i
     return 0

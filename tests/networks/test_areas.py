@@ -67,26 +67,93 @@ def test_threaded_calls_equal_one_call_in_any_thread(monkeypatch):
         assert len(out) == 1000 and shapely.equals_exact(out, whole, 0).all()
 
 
+@pytest.mark.parametrize("process", ["0", "1"])
 @pytest.mark.parametrize("halves_min", [4, 10**9])
-def test_areas_built_on_workers_or_in_halves_equal_those_built_alone(monkeypatch, halves_min):
-    from networks import areas
+def test_areas_built_in_parts_equal_those_built_alone(monkeypatch, halves_min, process):
+    from networks import area_worker, areas
     from networks.area_groups import AreaIndex
     from networks.samples.sources import SAMPLES_DIR
 
     net = read_network(SAMPLES_DIR / "roundabout" / "roundabout.net.xml")
     curves = extract_curves(net, areas=False)
     monkeypatch.setattr(areas, "HALVES_MIN", halves_min)
-    halves = []
+    monkeypatch.setenv("CLEARANCE_PROCESS", process)
+    parts = []
     build = areas._build
-    monkeypatch.setattr(areas, "_build", lambda i, c: halves.append(len(c)) or build(i, c))
+    monkeypatch.setattr(areas, "_build", lambda i, c: parts.append(len(c)) or build(i, c))
+    sent = []
+    send = area_worker.AreaWorker.send
+    monkeypatch.setattr(area_worker.AreaWorker, "send", lambda w, j: sent.append(j) or send(w, j))
     built = {}
     for workers in (1, 2):
         monkeypatch.setattr(areas, "WORKERS", workers)
         built[workers] = areas.build_areas(AreaIndex(net), curves)
-    assert sorted(halves[1:]) == ([len(curves)] if halves_min > len(curves) else sorted(
-        [areas._halfway(curves), len(curves) - areas._halfway(curves)]))
+    if halves_min > len(curves):
+        assert parts[1:] == [len(curves)] and not sent
+    elif process == "1":  # the second part went to the worker process
+        cut = areas._halfway(curves, 1.0 - areas.PROCESS_SHARE)
+        assert parts[1:] == [cut] and len(sent) == 1
+        assert len(sent[0].own_counts) == len(curves) - cut
+    else:
+        half = areas._halfway(curves)
+        assert sorted(parts[1:]) == sorted([half, len(curves) - half]) and not sent
     for one, two in zip(built[1], built[2], strict=True):
         assert [shapely.to_wkb(g) for g in one] == [shapely.to_wkb(g) for g in two]
+
+
+def test_a_worker_that_fails_costs_time_never_an_area(monkeypatch):
+    from networks import area_worker, areas
+    from networks.area_groups import AreaIndex
+    from networks.samples.sources import SAMPLES_DIR
+
+    net = read_network(SAMPLES_DIR / "roundabout" / "roundabout.net.xml")
+    curves = extract_curves(net, areas=False)
+    monkeypatch.setattr(areas, "HALVES_MIN", 4)
+    monkeypatch.setattr(areas, "WORKERS", 1)
+    alone = areas.build_areas(AreaIndex(net), curves)
+    monkeypatch.setattr(areas, "WORKERS", 2)
+    monkeypatch.setenv("CLEARANCE_PROCESS", "1")
+    area_worker.stop()
+    helper = area_worker.worker()
+    assert helper is not None
+    helper.proc.kill()  # dies before it gets the job
+    helper.proc.wait()
+    again = areas.build_areas(AreaIndex(net), curves)
+    assert area_worker.worker() is None  # given up on, for good ...
+    for one, two in zip(alone, again, strict=True):  # ... and the areas are all there
+        assert [shapely.to_wkb(g) for g in one] == [shapely.to_wkb(g) for g in two]
+    area_worker.stop()
+    assert area_worker.worker() is not None  # a new one after an explicit stop
+
+
+def test_the_worker_answers_a_bad_job_with_an_empty_message_and_goes_on():
+    import io
+    import pickle
+
+    from networks import area_worker
+    from networks.area_groups import AreaIndex, BatchPlan
+    from networks.areas import make_job, run_job
+    from networks.samples.sources import SAMPLES_DIR
+
+    net = read_network(SAMPLES_DIR / "intersection" / "intersection.net.xml")
+    curves = extract_curves(net, areas=False)
+    plan = BatchPlan(AreaIndex(net))
+    for c in curves:
+        plan.add(c)
+    job = make_job(plan, curves)
+    inp = io.BytesIO()
+    area_worker._write(inp, pickle.dumps("not a job"))
+    area_worker._write(inp, pickle.dumps(job))
+    inp.seek(0)
+    out = io.BytesIO()
+    assert area_worker.serve(inp, out) == 0
+    out.seek(0)
+    assert area_worker._read(out) == b""
+    own, roadway, paved = (shapely.from_wkb(x) for x in pickle.loads(area_worker._read(out)))
+    here = run_job(job)
+    for one, two in zip(here, (own, roadway, paved), strict=True):
+        assert [shapely.to_wkb(g) for g in one] == [shapely.to_wkb(g) for g in two]
+    assert area_worker._read(out) is None
 
 
 def test_junction_polygons_at_once_equal_one_by_one():
