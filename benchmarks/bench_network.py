@@ -50,7 +50,7 @@ TARGET_EXTRACT_S = 30.0
 TARGET_PEAK_MB = 1536.0
 
 _CHILD = r"""
-import json, resource, sys, time
+import json, os, resource, sys, time
 what, path = sys.argv[1], sys.argv[2]
 POLYGONAL = ("Polygon", "MultiPolygon")
 
@@ -113,6 +113,9 @@ elif what == "extract":
             for line in fh:
                 if line.startswith("VmHWM:"):
                     out["worker_peak_mb"] = int(line.split()[1]) / 1024
+        with open(f"/proc/{running[1].proc.pid}/stat") as fh:  # utime + stime, in ticks
+            ticks = fh.read().rsplit(")", 1)[1].split()[11:13]
+        out["worker_cpu_s"] = sum(map(int, ticks)) / os.sysconf("SC_CLK_TCK")
     area_worker.stop()
     out.update(curves_s=t2 - t1, areas_s=t3 - t2, curves_cpu_s=c2 - c1, areas_cpu_s=c3 - c2)
     out["curves"] = len(curves)
@@ -214,7 +217,8 @@ def main(argv: list[str] | None = None) -> int:
         f"[target {TARGET_EXTRACT_S:.0f} s: {verdict(total, TARGET_EXTRACT_S)}]"
     )
     how = (
-        f"{100 * ext['process_share']:.0f} % of each batch's curves by a worker process"
+        f"{100 * ext['process_share']:.0f} % of each batch's curves by a worker process, "
+        f"which used {ext.get('worker_cpu_s', 0.0):.2f} s of CPU"
         if ext["process"] else f"{ext['workers']} thread(s), no worker process"
     )
     print(

@@ -84,6 +84,7 @@ class AreaBook:
         self.batches: list[tuple[Curve, ...]] = _batches(curves, batch_curves)
         self.built = 0
         self._held: OrderedDict[int, None] = OrderedDict()
+        self._last: int | None = None  # the batch built last
         for b, batch in enumerate(self.batches):
             for c in batch:
                 c.area_book, c.area_batch = self, b
@@ -98,7 +99,13 @@ class AreaBook:
         from networks.areas import build_areas
 
         curves = self.batches[batch]
-        own, roadway, paved = build_areas(self.index, curves)
+        # read in order (the first batch, or the one after the last built): the next batch
+        # is likely next, and a worker process may start on its part at once
+        nxt = batch + 1
+        ahead = self.batches[nxt] if nxt < len(self.batches) and self._last in (
+            None, batch - 1) else None
+        own, roadway, paved = build_areas(self.index, curves, ahead)
+        self._last = batch
         for c, o, r, p in zip(curves, own, roadway, paved, strict=True):
             if c.area_book is self:
                 c.set_areas(o, r, p, book=self)

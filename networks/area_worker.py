@@ -24,6 +24,7 @@ import pickle
 import struct
 import subprocess
 import sys
+import threading
 from pathlib import Path
 from typing import IO
 
@@ -43,7 +44,11 @@ class AreaWorker:
 
     def __init__(self, proc: subprocess.Popen):
         self.proc = proc
-        self.busy = False
+        #: What the job queued last is for (kept by :func:`networks.areas.build_areas`).
+        self.pending: object | None = None
+        self._writer: threading.Thread | None = None
+        self._sent = True
+        self._waiting = 0  # jobs sent (or being sent) whose answers are not read yet
 
     @classmethod
     def start(cls) -> AreaWorker | None:
@@ -66,18 +71,52 @@ class AreaWorker:
 
     def send(self, job: Job) -> bool:
         """Give the worker a job (it starts at once); False when it cannot take it."""
+        if not self._join():
+            return False
         try:
             _write(self.proc.stdin, pickle.dumps(job, protocol=pickle.HIGHEST_PROTOCOL))
         except (OSError, ValueError, pickle.PicklingError):
             return False
-        self.busy = True
+        self._waiting += 1
         return True
 
+    def send_behind(self, job: Job) -> None:
+        """Queue a job behind the one the worker is on, without waiting: a thread writes
+        it while this one reads the current answer (the worker reads its next job only
+        once it has written its answer, which may not fit in the pipe)."""
+        if not self._join():
+            return
+        data = pickle.dumps(job, protocol=pickle.HIGHEST_PROTOCOL)
+        self._sent = False
+        self._waiting += 1
+
+        def write() -> None:
+            try:
+                _write(self.proc.stdin, data)
+                self._sent = True
+            except (OSError, ValueError):
+                pass
+
+        self._writer = threading.Thread(target=write, name="area-worker-send", daemon=True)
+        self._writer.start()
+
+    def _join(self) -> bool:
+        """Wait for a job being written (True when it was, or none was)."""
+        if self._writer is not None:
+            self._writer.join()
+            self._writer = None
+        return self._sent
+
     def receive(self) -> tuple[np.ndarray, np.ndarray, np.ndarray] | None:
-        """The areas of the job sent last (as :func:`networks.areas.run_job` gives them);
-        None when the worker failed (it is then of no more use)."""
-        self.busy = False
+        """The areas of the oldest job not answered yet (as :func:`networks.areas.run_job`
+        gives them); None when the worker failed (it is then of no more use)."""
+        if self._waiting == 0:
+            return None
+        self._waiting -= 1
         try:
+            # the only job left may still be being written: it must be read to be answered
+            if self._waiting == 0 and not self._join():
+                return None
             data = _read(self.proc.stdout)
             if not data:
                 return None
@@ -87,14 +126,25 @@ class AreaWorker:
             return None
 
     def stop(self) -> None:
-        """Ask the worker to stop (its input closes) and wait for it; kill it if it must."""
+        """Ask the worker to stop (its input closes) and wait for it. One with a job or an
+        answer still in flight (nobody will read that answer, and it would wait to write
+        it) is killed at once, which also frees a thread still writing a job to it."""
+        if self._waiting or self._writer is not None:
+            self.proc.kill()
         try:
             if self.proc.stdin is not None:
                 self.proc.stdin.close()
+        except OSError:
+            pass
+        try:
             self.proc.wait(timeout=STOP_TIMEOUT_S)
-        except (OSError, subprocess.TimeoutExpired):
+        except subprocess.TimeoutExpired:
             self.proc.kill()
             self.proc.wait()
+        if self._writer is not None:
+            self._writer.join()
+            self._writer = None
+        self._waiting = 0
 
 
 _WORKER: tuple[int, AreaWorker | None] | None = None

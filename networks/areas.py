@@ -339,7 +339,7 @@ def _junction_polygons(points: np.ndarray, counts: np.ndarray) -> np.ndarray:
 
 
 def build_areas(
-    index: AreaIndex, curves: Sequence[Curve]
+    index: AreaIndex, curves: Sequence[Curve], ahead: Sequence[Curve] | None = None
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """The ``own_lanes``, ``roadway`` and ``paved`` areas of some curves (one array each).
 
@@ -352,6 +352,12 @@ def build_areas(
     worker cannot be used) as two halves on two threads, the grouping of one (Python)
     running while the other's shapely calls run. The lanes, junction polygons and pieces
     are made for this call only. The areas are the same whichever way they are built.
+
+    ``ahead`` are the curves likely asked for next (the next batch of an
+    :class:`~networks.area_book.AreaBook` read in order): the worker's part of them is
+    queued behind this call's, so that the worker starts on it while this process reads
+    this call's answer and builds its own part of the next; a call for other curves
+    reads and drops that answer first (work lost, never a wrong area).
     """
     if not curves:
         empty = np.empty(0, dtype=object)
@@ -364,7 +370,7 @@ def build_areas(
             helper = area_worker.worker()
             cut = _halfway(curves, 1.0 - PROCESS_SHARE)
             if helper is not None and cut:
-                return _build_with(helper, index, curves, cut)
+                return _build_with(helper, index, curves, cut, ahead)
         cut = _halfway(curves) if large else 0
         if not cut:
             return _build(index, curves)
@@ -379,27 +385,56 @@ def build_areas(
         return own, roadway, paved
 
 
+class _Part(NamedTuple):
+    """The part of a run of curves given to the worker process."""
+
+    curves: Sequence[Curve]
+    cut: int
+    of: np.ndarray
+    job: Job
+
+
+def _worker_part(index: AreaIndex, curves: Sequence[Curve], cut: int) -> _Part:
+    plan = BatchPlan(index)
+    of = np.array([plan.add(c) for c in curves[cut:]], dtype=np.intp)
+    return _Part(curves, cut, of, make_job(plan, curves[cut:]))
+
+
 def _build_with(
-    helper: AreaWorker, index: AreaIndex, curves: Sequence[Curve], cut: int
+    helper: AreaWorker,
+    index: AreaIndex,
+    curves: Sequence[Curve],
+    cut: int,
+    ahead: Sequence[Curve] | None,
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """:func:`build_areas` with the curves from ``cut`` on built by a worker process."""
     from networks import area_worker
 
-    plan = BatchPlan(index)
-    of = np.array([plan.add(c) for c in curves[cut:]], dtype=np.intp)
-    job = make_job(plan, curves[cut:])
-    sent = helper.send(job)
+    part = helper.pending
+    helper.pending = None
+    if not isinstance(part, _Part) or part.curves is not curves:
+        if isinstance(part, _Part) and helper.receive() is None:  # another run's: dropped
+            area_worker.give_up()
+            return build_areas(index, curves)
+        part = _worker_part(index, curves, cut)
+        if not helper.send(part.job):
+            area_worker.give_up()
+            return build_areas(index, curves)
     _local.alone = True  # the other core is the worker's
     try:
-        first = _build(index, curves[:cut])
+        first = _build(index, curves[: part.cut])
+        nxt = _halfway(ahead, 1.0 - PROCESS_SHARE) if ahead and len(ahead) >= HALVES_MIN else 0
+        if nxt:  # queued now, so that the worker goes straight on with it
+            helper.pending = _worker_part(index, ahead, nxt)
+            helper.send_behind(helper.pending.job)
     finally:
         _local.alone = False
-    got = helper.receive() if sent else None
+    got = helper.receive()
     if got is None:  # the worker failed: this part is built here, and later ones too
         area_worker.give_up()
-        got = run_job(job)
+        got = run_job(part.job)
     own, roadway, paved = got
-    second = own, roadway[of[:, 0]], paved[of[:, 1]]
+    second = own, roadway[part.of[:, 0]], paved[part.of[:, 1]]
     own, roadway, paved = (np.concatenate(p) for p in zip(first, second, strict=True))
     return own, roadway, paved
 

@@ -100,3 +100,51 @@ def test_batches_do_not_split_a_junction():
         seen |= js
     with pytest.raises(ValueError):
         AreaBook(None, curves, batch_curves=0)
+
+
+def test_read_in_order_the_worker_starts_on_the_next_batch_and_a_jump_drops_it(monkeypatch):
+    from networks import area_worker, areas
+
+    net = _net("roundabout")
+    curves = extract_curves(net)
+    eager = extract_curves(net, areas=False)
+    attach_areas(net, eager)
+    monkeypatch.setattr(areas, "HALVES_MIN", 2)
+    monkeypatch.setattr(areas, "WORKERS", 2)
+    monkeypatch.setenv("CLEARANCE_PROCESS", "1")
+    book = AreaBook(net, curves, batch_curves=6, max_batches=2)
+    b = book.batches
+    split = [i for i, batch in enumerate(b) if areas._halfway(batch, 0.5)]
+    assert split == [0, 1, 2, 3]  # four batches, each in two parts
+    sent, behind = [], []
+    send, send_behind = area_worker.AreaWorker.send, area_worker.AreaWorker.send_behind
+    monkeypatch.setattr(area_worker.AreaWorker, "send",
+                        lambda w, j: sent.append(len(j.own_counts)) or send(w, j))
+    monkeypatch.setattr(area_worker.AreaWorker, "send_behind",
+                        lambda w, j: behind.append(len(j.own_counts)) or send_behind(w, j))
+    area_worker.stop()
+
+    def part(i: int) -> int:  # the curves of batch i the worker builds
+        return len(b[i]) - areas._halfway(b[i], 1.0 - areas.PROCESS_SHARE)
+
+    book.load(0)  # batch 0's part sent, batch 1's queued behind it
+    assert sent == [part(0)] and behind == [part(1)]
+    book.load(1)  # batch 1's part was already there; batch 2's queued
+    assert sent == [part(0)] and behind == [part(1), part(2)]
+    book.load(3)  # a jump: batch 2's answer is read and dropped, batch 3's part sent
+    assert sent == [part(0), part(3)] and behind == [part(1), part(2)]
+    assert area_worker.worker() is not None  # still in use
+    for c, e in zip(curves, eager, strict=True):
+        if c.area_batch in book.held():
+            for mine, theirs in ((c.own_lanes, e.own_lanes), (c.roadway, e.roadway),
+                                 (c.paved, e.paved)):
+                assert shapely.to_wkb(mine) == shapely.to_wkb(theirs), c.curve_id
+    book.load(2)  # nothing was queued behind 3 (read out of order): sent now, none behind
+    assert sent == [part(0), part(3), part(2)] and behind == [part(1), part(2)]
+    book.load(3)  # in order again: batch 3 is the last, nothing to queue
+    assert len(sent) == 4 and len(behind) == 2
+    book.load(0)  # a jump back: nothing queued
+    book.load(1)  # in order: batch 2's part queued, in flight when the worker is stopped
+    assert len(sent) == 6 and len(behind) == 3
+    area_worker.stop()  # (at once: nobody will read that answer)
+    assert area_worker._WORKER is None
