@@ -447,7 +447,7 @@ def use_process() -> bool:
 
 #: The share of a large batch's curves a worker process builds (this process also groups
 #: the worker's curves and reads back its areas).
-PROCESS_SHARE = 0.55
+PROCESS_SHARE = 0.65
 
 
 #: Batches of at least this many curves are built in two halves at once (:func:`build_areas`).
