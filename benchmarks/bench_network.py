@@ -101,7 +101,8 @@ elif what == "extract":
     out["batches_built"] = book.built if book else 0
     out["batch_curves"], out["max_batches"] = BATCH_CURVES, MAX_BATCHES
     from networks import area_worker
-    from networks.areas import PROCESS_SHARE, WORKERS, use_process
+    from networks.area_worker import PROCESS_SHARE, use_process
+    from networks.areas import WORKERS
     out["workers"] = WORKERS
     out["process"] = use_process() and WORKERS > 1
     out["process_share"] = PROCESS_SHARE

@@ -14,7 +14,11 @@ a batch's unions do not depend on what else is built). An area a caller still ho
 valid; the book only drops its own references.
 
 Curves are in kind then id order, so a junction's turns are consecutive and a sweep over
-the curves in that order builds each batch once.
+the curves in that order builds each batch once. When batches are read in that order, the
+worker process that builds part of each large batch (:mod:`networks.area_worker`) is given
+its part of the next batch as soon as it is done with this one's, so that it is never idle
+while this process reads its answer and builds its own part; a read out of order drops
+that work (see :func:`networks.areas.build_areas`).
 """
 
 from __future__ import annotations

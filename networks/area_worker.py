@@ -3,10 +3,13 @@
 Threads of one Python process share the GIL: the grouping of curves (Python) and the
 Python side of each shapely call keep two threads building areas at about 1.5 times the
 speed of one on two cores. A second process has its own interpreter: while this process
-groups one part of a batch and builds its geometry, the worker builds the other part's
-(:func:`networks.areas.build_areas`). It gets a :class:`~networks.areas.Job` (plain arrays
-and index rows, no network) and sends back the areas as WKB, which is exact: the geometry
-is the same as if this process had built it.
+groups a large batch's curves and builds the geometry of one part of them, the worker
+builds the other part's (:func:`build_in_two`, :data:`PROCESS_SHARE` of the curves). It gets
+a :class:`~networks.areas.Job` (plain arrays and index rows, no network) and sends back
+the areas as WKB, which is exact: the geometry is the same as if this process had built
+it. When the caller says which curves come next (an
+:class:`~networks.area_book.AreaBook` read in order), their part is queued behind the
+current one, so that the worker goes straight on with it.
 
 The worker is started on first use (``python -m networks.area_worker``, with one thread:
 ``CLEARANCE_THREADS=1``), kept for later batches, and told to stop when this process
@@ -25,13 +28,19 @@ import struct
 import subprocess
 import sys
 import threading
+from collections.abc import Sequence
 from pathlib import Path
-from typing import IO
+from typing import IO, TYPE_CHECKING, NamedTuple
 
 import numpy as np
 import shapely
 
+from networks import areas
+from networks.area_groups import AreaIndex, BatchPlan
 from networks.areas import Job, run_job
+
+if TYPE_CHECKING:
+    from networks.curves import Curve
 
 _LENGTH = struct.Struct("<Q")
 
@@ -176,6 +185,89 @@ def stop() -> None:
     if _WORKER is not None and _WORKER[1] is not None and _WORKER[0] == os.getpid():
         _WORKER[1].stop()
     _WORKER = None
+
+
+def build_in_two(
+    index: AreaIndex, curves: Sequence[Curve], ahead: Sequence[Curve] | None = None
+) -> tuple[np.ndarray, np.ndarray, np.ndarray] | None:
+    """The areas of a large run of curves (as :func:`networks.areas.build_areas` gives
+    them), :data:`PROCESS_SHARE` of them built by the worker process while this thread
+    groups all of them and builds the rest; ``ahead`` (the curves likely asked for next):
+    their worker part is queued behind this one's. None when no worker is to be used
+    (``CLEARANCE_PROCESS=0``, none can be started or it failed, or the curves are all at
+    one junction): the caller builds them itself.
+    """
+    if not use_process():
+        return None
+    helper = worker()
+    cut = areas._halfway(curves, 1.0 - PROCESS_SHARE)
+    if helper is None or not cut:
+        return None
+    return _build_with(helper, index, curves, cut, ahead)
+
+
+class _Part(NamedTuple):
+    """The part of a run of curves given to the worker process."""
+
+    curves: Sequence[Curve]
+    cut: int
+    of: np.ndarray
+    job: Job
+
+
+def _worker_part(index: AreaIndex, curves: Sequence[Curve], cut: int) -> _Part:
+    """Group the curves from ``cut`` on and make their job (the worker's part)."""
+    plan = BatchPlan(index)
+    of = np.array([plan.add(c) for c in curves[cut:]], dtype=np.intp)
+    return _Part(curves, cut, of, areas.make_job(plan, curves[cut:]))
+
+
+def _build_with(
+    helper: AreaWorker,
+    index: AreaIndex,
+    curves: Sequence[Curve],
+    cut: int,
+    ahead: Sequence[Curve] | None,
+) -> tuple[np.ndarray, np.ndarray, np.ndarray] | None:
+    """:func:`~networks.areas.build_areas` with the curves from ``cut`` on built by the
+    worker process; None when the worker failed before it got them."""
+    part = helper.pending
+    helper.pending = None
+    if not isinstance(part, _Part) or part.curves is not curves:
+        if isinstance(part, _Part) and helper.receive() is None:  # another run's: dropped
+            give_up()
+            return None
+        part = _worker_part(index, curves, cut)
+        if not helper.send(part.job):
+            give_up()
+            return None
+    first = areas.build_alone(index, curves[: part.cut])  # the other core is the worker's
+    nxt = (
+        areas._halfway(ahead, 1.0 - PROCESS_SHARE)
+        if ahead and len(ahead) >= areas.HALVES_MIN else 0
+    )
+    if nxt:  # queued now, so that the worker goes straight on with it
+        helper.pending = _worker_part(index, ahead, nxt)
+        helper.send_behind(helper.pending.job)
+    got = helper.receive()
+    if got is None:  # the worker failed: this part is built here, and later ones too
+        give_up()
+        got = run_job(part.job)
+    own, roadway, paved = got
+    second = own, roadway[part.of[:, 0]], paved[part.of[:, 1]]
+    own, roadway, paved = (np.concatenate(p) for p in zip(first, second, strict=True))
+    return own, roadway, paved
+
+
+def use_process() -> bool:
+    """Whether large batches use a worker process (not when the environment variable
+    ``CLEARANCE_PROCESS`` is ``0``)."""
+    return os.environ.get("CLEARANCE_PROCESS", "1").strip() != "0"
+
+
+#: The share of a large batch's curves a worker process builds (this process also groups
+#: the worker's curves and reads back its areas).
+PROCESS_SHARE = 0.65
 
 
 def _write(stream: IO[bytes] | None, data: bytes) -> None:

@@ -30,10 +30,16 @@ its turns) share the object. Which lanes and pieces make each area is decided in
 builds it. Unions of a few polygons are pairwise, larger ones ``shapely.union_all`` over
 rows of an array. A paved area is the union of its plain lanes, edges and junction polygon
 first, then of that with the union of only the internal lanes it does not already cover
-(the same area, far fewer crossings to node). The vectorised shapely calls are split over
-:data:`WORKERS` threads; a large batch is built as two halves at once (one on a worker
-thread: the grouping of one runs while the other's shapely calls run), and the
-``own_lanes`` are buffered on a worker thread while a batch is grouped. ``own_lanes`` is
+(the same area, far fewer crossings to node).
+
+Building has two steps: grouping the curves (:class:`~networks.area_groups.BatchPlan`, then
+:func:`make_job`: Python, which needs the network) and making the geometry from the
+resulting :class:`Job` of plain arrays (:func:`run_job`: GEOS only). A large batch is built
+in two parts at once: by default this process groups both and builds the first while a
+worker process (:mod:`networks.area_worker`) builds the second; threads of one process
+share the GIL and gave only about 1.5 times one thread's speed on two cores. Without the
+worker, the two halves are built on two threads, and the vectorised shapely calls of a
+small batch are split over :data:`WORKERS` threads. ``own_lanes`` is
 a buffer of the centre line, so at lane joins it may stick out of the lane polygons of
 ``roadway`` by slivers of a few square centimetres.
 """
@@ -64,7 +70,6 @@ SEAL_M = 1e-3
 MIN_HOLE_M2 = 1.0
 
 if TYPE_CHECKING:
-    from networks.area_worker import AreaWorker
     from networks.curves import Curve
 
 
@@ -347,7 +352,7 @@ def build_areas(
     paved members (one paved area per junction, one roadway per movement), within each
     part. With more than one worker, at least :data:`HALVES_MIN` curves are built as two
     parts at once (cut where the junction changes): by default the second part by a worker
-    process (:mod:`networks.area_worker`, :data:`PROCESS_SHARE` of the curves) while this
+    process (:func:`networks.area_worker.build_in_two`) while this
     thread groups and builds the first; without it (``CLEARANCE_PROCESS=0``, or when the
     worker cannot be used) as two halves on two threads, the grouping of one (Python)
     running while the other's shapely calls run. The lanes, junction polygons and pieces
@@ -364,13 +369,12 @@ def build_areas(
         return empty, empty, empty
     with gc_paused():
         large = len(curves) >= HALVES_MIN and _may_split()
-        if large and use_process():
-            from networks import area_worker
+        if large:
+            from networks.area_worker import build_in_two
 
-            helper = area_worker.worker()
-            cut = _halfway(curves, 1.0 - PROCESS_SHARE)
-            if helper is not None and cut:
-                return _build_with(helper, index, curves, cut, ahead)
+            built = build_in_two(index, curves, ahead)
+            if built is not None:
+                return built
         cut = _halfway(curves) if large else 0
         if not cut:
             return _build(index, curves)
@@ -383,71 +387,6 @@ def build_areas(
         second = other.result()
         own, roadway, paved = (np.concatenate(p) for p in zip(first, second, strict=True))
         return own, roadway, paved
-
-
-class _Part(NamedTuple):
-    """The part of a run of curves given to the worker process."""
-
-    curves: Sequence[Curve]
-    cut: int
-    of: np.ndarray
-    job: Job
-
-
-def _worker_part(index: AreaIndex, curves: Sequence[Curve], cut: int) -> _Part:
-    plan = BatchPlan(index)
-    of = np.array([plan.add(c) for c in curves[cut:]], dtype=np.intp)
-    return _Part(curves, cut, of, make_job(plan, curves[cut:]))
-
-
-def _build_with(
-    helper: AreaWorker,
-    index: AreaIndex,
-    curves: Sequence[Curve],
-    cut: int,
-    ahead: Sequence[Curve] | None,
-) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """:func:`build_areas` with the curves from ``cut`` on built by a worker process."""
-    from networks import area_worker
-
-    part = helper.pending
-    helper.pending = None
-    if not isinstance(part, _Part) or part.curves is not curves:
-        if isinstance(part, _Part) and helper.receive() is None:  # another run's: dropped
-            area_worker.give_up()
-            return build_areas(index, curves)
-        part = _worker_part(index, curves, cut)
-        if not helper.send(part.job):
-            area_worker.give_up()
-            return build_areas(index, curves)
-    _local.alone = True  # the other core is the worker's
-    try:
-        first = _build(index, curves[: part.cut])
-        nxt = _halfway(ahead, 1.0 - PROCESS_SHARE) if ahead and len(ahead) >= HALVES_MIN else 0
-        if nxt:  # queued now, so that the worker goes straight on with it
-            helper.pending = _worker_part(index, ahead, nxt)
-            helper.send_behind(helper.pending.job)
-    finally:
-        _local.alone = False
-    got = helper.receive()
-    if got is None:  # the worker failed: this part is built here, and later ones too
-        area_worker.give_up()
-        got = run_job(part.job)
-    own, roadway, paved = got
-    second = own, roadway[part.of[:, 0]], paved[part.of[:, 1]]
-    own, roadway, paved = (np.concatenate(p) for p in zip(first, second, strict=True))
-    return own, roadway, paved
-
-
-def use_process() -> bool:
-    """Whether large batches use a worker process (not when the environment variable
-    ``CLEARANCE_PROCESS`` is ``0``)."""
-    return os.environ.get("CLEARANCE_PROCESS", "1").strip() != "0"
-
-
-#: The share of a large batch's curves a worker process builds (this process also groups
-#: the worker's curves and reads back its areas).
-PROCESS_SHARE = 0.65
 
 
 #: Batches of at least this many curves are built in two halves at once (:func:`build_areas`).
@@ -494,6 +433,16 @@ def _build(index: AreaIndex, curves: Sequence[Curve]) -> tuple[np.ndarray, np.nd
     of = np.array([plan.add(c) for c in curves], dtype=np.intp)
     own, roadway, paved = run_job(make_job(plan, curves))
     return own, roadway[of[:, 0]], paved[of[:, 1]]
+
+
+def build_alone(index: AreaIndex, curves: Sequence[Curve]) -> tuple[np.ndarray, ...]:
+    """:func:`build_areas` of one run of curves in this thread alone (no threads of the
+    pool: the other core is busy, e.g. with a worker process)."""
+    _local.alone = True
+    try:
+        return _build(index, curves)
+    finally:
+        _local.alone = False
 
 
 def attach_areas(net: Network, curves: Sequence[Curve]) -> None:

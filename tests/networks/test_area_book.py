@@ -125,7 +125,7 @@ def test_read_in_order_the_worker_starts_on_the_next_batch_and_a_jump_drops_it(m
     area_worker.stop()
 
     def part(i: int) -> int:  # the curves of batch i the worker builds
-        return len(b[i]) - areas._halfway(b[i], 1.0 - areas.PROCESS_SHARE)
+        return len(b[i]) - areas._halfway(b[i], 1.0 - area_worker.PROCESS_SHARE)
 
     book.load(0)  # batch 0's part sent, batch 1's queued behind it
     assert sent == [part(0)] and behind == [part(1)]

@@ -91,7 +91,7 @@ def test_areas_built_in_parts_equal_those_built_alone(monkeypatch, halves_min, p
     if halves_min > len(curves):
         assert parts[1:] == [len(curves)] and not sent
     elif process == "1":  # the second part went to the worker process
-        cut = areas._halfway(curves, 1.0 - areas.PROCESS_SHARE)
+        cut = areas._halfway(curves, 1.0 - area_worker.PROCESS_SHARE)
         assert parts[1:] == [cut] and len(sent) == 1
         assert len(sent[0].own_counts) == len(curves) - cut
     else:
