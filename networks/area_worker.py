@@ -42,7 +42,10 @@ from networks.areas import Job, run_job
 if TYPE_CHECKING:
     from networks.curves import Curve
 
-_LENGTH = struct.Struct("<Q")
+#: Each message: these four bytes, its length in eight, then a pickle. A message that does
+#: not start with them (something else wrote to the pipe) ends the exchange.
+_MAGIC = b"CAW1"
+_HEAD = struct.Struct("<4sQ")
 
 #: Seconds a worker is given to stop when asked, before it is killed.
 STOP_TIMEOUT_S = 5.0
@@ -273,19 +276,32 @@ PROCESS_SHARE = 0.65
 def _write(stream: IO[bytes] | None, data: bytes) -> None:
     if stream is None:
         raise OSError("no pipe")
-    stream.write(_LENGTH.pack(len(data)))
+    stream.write(_HEAD.pack(_MAGIC, len(data)))
     stream.write(data)
     stream.flush()
 
 
 def _read(stream: IO[bytes] | None) -> bytes | None:
-    """One message; None at the end of the stream."""
+    """One message; None at the end of the stream or when what comes is not a message.
+
+    Examples
+    --------
+    >>> import io
+    >>> pipe = io.BytesIO()
+    >>> _write(pipe, b"abc"); _write(pipe, b"")
+    >>> _ = pipe.seek(0)
+    >>> _read(pipe), _read(pipe), _read(pipe)
+    (b'abc', b'', None)
+    >>> _read(io.BytesIO(b"hello, world: not a message"))  # e.g. a stray print
+    """
     if stream is None:
         return None
-    head = stream.read(_LENGTH.size)
-    if len(head) < _LENGTH.size:
+    head = stream.read(_HEAD.size)
+    if len(head) < _HEAD.size:
         return None
-    (n,) = _LENGTH.unpack(head)
+    magic, n = _HEAD.unpack(head)
+    if magic != _MAGIC:
+        return None
     data = stream.read(n)
     return data if len(data) == n else None
 
@@ -306,8 +322,18 @@ def serve(inp: IO[bytes], out: IO[bytes]) -> int:
     return 0
 
 
-if __name__ == "__main__":
-    import gc  # noqa: I001
+def main() -> int:
+    """The worker process: :func:`serve` standard input, answering on standard output."""
+    import gc
 
     gc.disable()  # jobs make no reference cycles; everything is freed by reference counts
-    raise SystemExit(serve(sys.stdin.buffer, sys.stdout.buffer))
+    # the answers go to a copy of the pipe; whatever else writes to standard output (a
+    # library's print, at Python or C level) goes to standard error instead
+    answers = os.fdopen(os.dup(sys.stdout.fileno()), "wb")
+    sys.stdout.flush()
+    os.dup2(sys.stderr.fileno(), sys.stdout.fileno())
+    return serve(sys.stdin.buffer, answers)
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

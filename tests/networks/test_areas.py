@@ -208,3 +208,43 @@ def test_threaded_never_cuts_a_run_of_equal_labels(monkeypatch, workers):
     one_run = np.zeros(40, dtype=int)
     seen.clear()
     assert (areas._threaded(record, one_run, runs=one_run) == 0).all() and len(seen) == 1
+
+
+def test_what_a_job_prints_does_not_reach_the_answers():
+    import os
+    import subprocess
+    import sys
+    from pathlib import Path
+
+    from networks import area_worker
+    from networks.area_groups import AreaIndex, BatchPlan
+    from networks.areas import make_job, run_job
+    from networks.samples.sources import SAMPLES_DIR
+
+    net = read_network(SAMPLES_DIR / "intersection" / "intersection.net.xml")
+    curves = extract_curves(net, areas=False)
+    plan = BatchPlan(AreaIndex(net))
+    for c in curves:
+        plan.add(c)
+    job = make_job(plan, curves)
+    code = (  # a worker whose every job prints, at Python and at C level, to stdout
+        "import os, sys\n"
+        "from networks import area_worker\n"
+        "run = area_worker.run_job\n"
+        "def noisy(job):\n"
+        "    print('a stray print'); sys.stdout.flush(); os.write(1, b'a stray write')\n"
+        "    return run(job)\n"
+        "area_worker.run_job = noisy\n"
+        "sys.exit(area_worker.main())\n"
+    )
+    env = dict(os.environ, PYTHONPATH=str(Path(area_worker.__file__).resolve().parents[1]))
+    proc = subprocess.Popen([sys.executable, "-c", code], stdin=subprocess.PIPE,
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, env=env)
+    helper = area_worker.AreaWorker(proc)
+    assert helper.send(job)
+    got = helper.receive()
+    helper.stop()
+    assert b"a stray print" in proc.stderr.read()
+    assert got is not None
+    for one, two in zip(run_job(job), got, strict=True):
+        assert [shapely.to_wkb(g) for g in one] == [shapely.to_wkb(g) for g in two]
