@@ -381,13 +381,15 @@ def _plain_edges(net: Network) -> list[str]:
 def find_ramps(net: Network, opts: CurveOptions) -> tuple[list[Curve], set[str]]:
     """Find ``ramp`` curves; also return the edges they cover (no bends are sought there)."""
     plain = set(_plain_edges(net))
+    graded = {e for e in plain if _edge_grade_pct(net, e) > opts.ramp_min_grade_pct}
+    if not graded:  # a level network (no edge steep enough to start a ramp)
+        return [], set()
     succ: dict[str, set[str]] = {}
     pred: dict[str, set[str]] = {}
     for c in net.connections:
         if c.from_edge in plain and c.to_edge in plain and c.direction != "t":
             succ.setdefault(c.from_edge, set()).add(c.to_edge)
             pred.setdefault(c.to_edge, set()).add(c.from_edge)
-    graded = {e for e in plain if _edge_grade_pct(net, e) > opts.ramp_min_grade_pct}
 
     def link(a: str) -> str | None:
         nxt = succ.get(a, set())
