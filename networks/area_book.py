@@ -83,7 +83,8 @@ class AreaBook:
     ):
         if batch_curves < 1 or max_batches < 1:
             raise ValueError("batch_curves and max_batches must be >= 1")
-        self.index = AreaIndex(net)
+        self.net = net
+        self._index: AreaIndex | None = None
         self.max_batches = max_batches
         self.batches: list[tuple[Curve, ...]] = _batches(curves, batch_curves)
         self.built = 0
@@ -92,6 +93,14 @@ class AreaBook:
         for b, batch in enumerate(self.batches):
             for c in batch:
                 c.area_book, c.area_batch = self, b
+
+    @property
+    def index(self) -> AreaIndex:
+        """The network's topology for grouping areas (made when the first batch is built:
+        a caller that never reads an area does not pay for it)."""
+        if self._index is None:
+            self._index = AreaIndex(self.net)
+        return self._index
 
     def held(self) -> list[int]:
         """The batches whose areas are kept now, oldest first."""
