@@ -17,6 +17,7 @@ from __future__ import annotations
 from collections.abc import Sequence
 from dataclasses import dataclass
 from itertools import repeat
+from typing import NamedTuple
 
 import numpy as np
 
@@ -33,11 +34,12 @@ MAX_WINDOW_M = 15.0
 CHUNK_LINES = 20000
 
 
-@dataclass(frozen=True, slots=True)
-class Stations:
+class Stations(NamedTuple):
     """Stations every ``step_m`` from ``start_m``, the last one no further than ``stop_m``:
     ``s_i = min(start_m + step_m * i, stop_m)`` for ``i < count`` (four numbers instead of
-    an array; :meth:`array` gives the same floats the profile was computed at).
+    an array; :meth:`array` gives the same floats the profile was computed at). A named
+    tuple: a large network has hundreds of thousands, made in half the time of a frozen
+    dataclass.
 
     Examples
     --------
