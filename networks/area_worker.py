@@ -198,15 +198,25 @@ def build_in_two(
     groups all of them and builds the rest; ``ahead`` (the curves likely asked for next):
     their worker part is queued behind this one's. None when no worker is to be used
     (``CLEARANCE_PROCESS=0``, none can be started or it failed, or the curves are all at
-    one junction): the caller builds them itself.
+    one junction, or another thread is using the worker): the caller builds them itself.
     """
     if not use_process():
         return None
-    helper = worker()
-    cut = areas._halfway(curves, 1.0 - PROCESS_SHARE)
-    if helper is None or not cut:
+    if not _LOCK.acquire(blocking=False):  # another thread is using the worker
         return None
-    return _build_with(helper, index, curves, cut, ahead)
+    try:
+        helper = worker()
+        cut = areas._halfway(curves, 1.0 - PROCESS_SHARE)
+        if helper is None or not cut:
+            return None
+        return _build_with(helper, index, curves, cut, ahead)
+    finally:
+        _LOCK.release()
+
+
+#: Held while a thread exchanges jobs and answers with the worker (one at a time: the
+#: answers come back in the order the jobs went out).
+_LOCK = threading.Lock()
 
 
 class _Part(NamedTuple):

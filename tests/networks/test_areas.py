@@ -248,3 +248,36 @@ def test_what_a_job_prints_does_not_reach_the_answers():
     assert got is not None
     for one, two in zip(run_job(job), got, strict=True):
         assert [shapely.to_wkb(g) for g in one] == [shapely.to_wkb(g) for g in two]
+
+
+def test_threads_building_areas_at_once_share_the_worker_safely(monkeypatch):
+    from concurrent.futures import ThreadPoolExecutor
+
+    from networks import area_worker, areas
+    from networks.area_groups import AreaIndex
+    from networks.samples.sources import SAMPLES_DIR
+
+    net = read_network(SAMPLES_DIR / "roundabout" / "roundabout.net.xml")
+    curves = extract_curves(net, areas=False)
+    monkeypatch.setattr(areas, "HALVES_MIN", 4)
+    monkeypatch.setattr(areas, "WORKERS", 2)
+    monkeypatch.setenv("CLEARANCE_PROCESS", "1")
+    index = AreaIndex(net)
+    # each thread names the other's curves as the ones it reads next: queued answers are
+    # dropped and made again, never mixed up
+    halves = [curves[:16], curves[16:]]
+
+    def build(i: int) -> list[bytes]:
+        out = []
+        for _ in range(8):
+            got = areas.build_areas(index, halves[i], ahead=halves[1 - i])
+            out.append([shapely.to_wkb(g) for part in got for g in part])
+        return out
+
+    with ThreadPoolExecutor(4) as pool:
+        results = list(pool.map(build, [0, 1, 0, 1]))
+    singles = [[shapely.to_wkb(g) for part in areas.build_areas(index, h) for g in part]
+               for h in halves]
+    for i, runs in enumerate(results):
+        assert all(r == singles[i % 2] for r in runs)
+    area_worker.stop()
