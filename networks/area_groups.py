@@ -55,6 +55,8 @@ class AreaIndex:
     odd_lanes
         Internal lanes whose id does not start with ``:`` (curves using them are grouped
         the slow way, lane by lane).
+    road_lanes
+        Lanes that passenger cars, buses or trucks may use (:func:`is_road`).
     """
 
     def __init__(self, net: Network):
@@ -70,8 +72,11 @@ class AreaIndex:
         self.plain_edge: dict[str, str] = {}
         self.junction_at: dict[str, str | None] = {}
         odd: list[str] = []
+        road: list[str] = []
         junctions = net.junctions
         for k, lane in net.lanes.items():
+            if not lane.allowed.isdisjoint(ROAD_VCLASSES):
+                road.append(k)
             named_internal = k.startswith(":")
             if named_internal:
                 j = junction_of_internal(k)
@@ -85,6 +90,7 @@ class AreaIndex:
             else:
                 self.plain_edge[k] = lane.edge
         self.odd_lanes = frozenset(odd)
+        self.road_lanes = frozenset(road)
 
     def plain_edges(self, lanes: Sequence[str]) -> tuple[str, ...] | None:
         """The plain edges a lane sequence runs on, as :func:`plain_edges_of` gives them;
@@ -247,7 +253,8 @@ class BatchPlan:
             return key
         lanes = self.net.edges[edge].lanes
         if road_only:
-            lanes = [k for k in lanes if is_road(self.net, k)]
+            road = self.index.road_lanes
+            lanes = [k for k in lanes if k in road]
         return self._piece(key, lanes)
 
     def movement_piece(self, a: str, b: str) -> str | None:
@@ -263,14 +270,14 @@ class BatchPlan:
         hit = self._movements.get(a)
         if hit is None:
             net = self.net
+            road = self.index.road_lanes
             hit = self._movements[a] = {}
             for lane_id in net.edges[a].lanes:
                 for c in net.outgoing(lane_id):
                     lanes = hit.setdefault(c.to_edge, [])
                     if c.via:
                         lanes.extend(
-                            k for k in via_lanes(net, c) or []
-                            if k not in lanes and is_road(net, k)
+                            k for k in via_lanes(net, c) or [] if k not in lanes and k in road
                         )
         return hit
 
@@ -287,7 +294,9 @@ class BatchPlan:
             hit = self._road_pieces[plain] = (found, covered)
         keys, covered = hit
         # a lane of the curve in no piece (e.g. a ring passage without a connection)
-        extra = [k for k in curve.lanes if k not in covered]
+        extra = [] if covered.issuperset(curve.lanes) else [
+            k for k in curve.lanes if k not in covered
+        ]
         key = (plain, *extra) if extra else plain
         group = self._road_of.get(key)
         if group is None:
