@@ -56,8 +56,8 @@ class AreaWorker:
 
     def __init__(self, proc: subprocess.Popen):
         self.proc = proc
-        #: What the job queued last is for (kept by :func:`networks.areas.build_areas`).
-        self.pending: object | None = None
+        #: The part whose job was queued behind the last one (kept by :func:`build_in_two`).
+        self.pending: _Part | None = None
         self._writer: threading.Thread | None = None
         self._sent = True
         self._waiting = 0  # jobs sent (or being sent) whose answers are not read yet
@@ -246,8 +246,8 @@ def _build_with(
     worker process; None when the worker failed before it got them."""
     part = helper.pending
     helper.pending = None
-    if not isinstance(part, _Part) or part.curves is not curves:
-        if isinstance(part, _Part) and helper.receive() is None:  # another run's: dropped
+    if part is None or part.curves is not curves:
+        if part is not None and helper.receive() is None:  # another run's: dropped
             give_up()
             return None
         part = _worker_part(index, curves, cut)

@@ -96,13 +96,19 @@ def lane_polygons(
     >>> round(lane_polygons(net, ["e_0"], "round")[0].area, 1)  # + a disc of r 1.5 (16-gon)
     36.9
     """
-    if not lane_ids:
-        return np.empty(0, dtype=object)
+    return _lane_polygons(*_lane_arrays(net, lane_ids, grow_m), cap_style)
+
+
+def _lane_arrays(
+    net: Network, lane_ids: Sequence[str], grow_m: float
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The lanes' shapes (x, y; lane after lane), point counts and buffer radii (half the
+    width plus ``grow_m``)."""
     lanes = [net.lanes[k] for k in lane_ids]
     counts = np.fromiter((len(lane.shape) for lane in lanes), dtype=np.intp, count=len(lanes))
-    points = np.vstack([lane.shape for lane in lanes])[:, :2]
+    points = np.vstack([lane.shape for lane in lanes])[:, :2] if lanes else np.empty((0, 2))
     radius = np.fromiter((lane.width_m for lane in lanes), float, len(lanes)) / 2.0 + grow_m
-    return _lane_polygons(points, counts, radius, cap_style)
+    return points, counts, radius
 
 
 def _lane_polygons(
@@ -129,11 +135,6 @@ def _lane_polygons(
         buffer = partial(shapely.buffer, cap_style=cap_style, join_style="round", quad_segs=4)
         out[rest] = _threaded(buffer, lines, radius[rest])
     return out
-
-
-def own_lane_polygons(curves: Sequence[Curve]) -> np.ndarray:
-    """Each curve's centre line buffered by half its lane width (vectorised)."""
-    return _own_polygons(*_own_arrays(curves))
 
 
 def _own_arrays(curves: Sequence[Curve]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -317,10 +318,15 @@ def junction_polygons(net: Network, junction_ids: Sequence[str]) -> np.ndarray:
     >>> round(float(junction_polygons(net, ["J"])[0].area), 3)  # (4 + 2 mm)^2
     16.016
     """
+    return _junction_polygons(*_junction_arrays(net, junction_ids))
+
+
+def _junction_arrays(net: Network, junction_ids: Sequence[str]) -> tuple[np.ndarray, np.ndarray]:
+    """The junctions' shapes (x, y; junction after junction) and point counts."""
     shapes = [net.junctions[j].shape for j in junction_ids]
     counts = np.fromiter(map(len, shapes), dtype=np.intp, count=len(shapes))
     points = np.vstack(shapes)[:, :2] if shapes else np.empty((0, 2))
-    return _junction_polygons(points, counts)
+    return points, counts
 
 
 def _junction_polygons(points: np.ndarray, counts: np.ndarray) -> np.ndarray:
@@ -379,11 +385,7 @@ def build_areas(
         if not cut:
             return _build(index, curves)
         other = _pool().submit(_build, index, curves[cut:])
-        _local.alone = True
-        try:
-            first = _build(index, curves[:cut])
-        finally:
-            _local.alone = False
+        first = build_alone(index, curves[:cut])
         second = other.result()
         own, roadway, paved = (np.concatenate(p) for p in zip(first, second, strict=True))
         return own, roadway, paved
@@ -495,14 +497,6 @@ def make_job(plan: BatchPlan, curves: Sequence[Curve]) -> Job:
                 lane_at.setdefault(m[2:], len(lane_at))
             elif m[0] == "J":
                 junction_ids.setdefault(m[2:], len(junction_ids))
-    net = plan.net
-    lanes = [net.lanes[k] for k in lane_at]
-    lane_counts = np.fromiter((len(x.shape) for x in lanes), np.intp, len(lanes))
-    lane_points = np.vstack([x.shape for x in lanes])[:, :2] if lanes else np.empty((0, 2))
-    radius = np.fromiter((x.width_m for x in lanes), float, len(lanes)) / 2.0 + SEAL_M
-    shapes = [net.junctions[j].shape for j in junction_ids]
-    junction_counts = np.fromiter(map(len, shapes), np.intp, len(shapes))
-    junction_points = np.vstack(shapes)[:, :2] if shapes else np.empty((0, 2))
     # pieces with the same lanes (an edge's lanes that are all road lanes) share one union
     n_base = len(lane_at) + len(junction_ids)
     rows_of: dict[tuple[int, ...], int] = {}
@@ -539,7 +533,8 @@ def make_job(plan: BatchPlan, curves: Sequence[Curve]) -> Job:
         base_rows.append(base)
         inner_rows.append([i for i in (lane_at[k] for k in sorted(inner)) if i not in in_base])
     return Job(
-        lane_points, lane_counts, radius, junction_points, junction_counts,
+        *_lane_arrays(plan.net, list(lane_at), SEAL_M),
+        *_junction_arrays(plan.net, list(junction_ids)),
         [list(r) for r in rows_of], [[at(m) for m in g] for g in plan.road_groups],
         base_rows, inner_rows, *_own_arrays(curves),
     )

@@ -13,6 +13,26 @@ from networks.curves import extract_curves
 from networks.reader import read_network
 
 
+def _wkb(parts) -> list[list[bytes]]:
+    """Areas (arrays of geometries, e.g. own lanes, roadway, paved) as WKB, to compare
+    them byte for byte."""
+    return [[shapely.to_wkb(g) for g in part] for part in parts]
+
+
+def _intersection_job():
+    """The intersection sample's areas as one job (all its curves)."""
+    from networks.area_groups import AreaIndex, BatchPlan
+    from networks.areas import make_job
+    from networks.samples.sources import SAMPLES_DIR
+
+    net = read_network(SAMPLES_DIR / "intersection" / "intersection.net.xml")
+    curves = extract_curves(net, areas=False)
+    plan = BatchPlan(AreaIndex(net))
+    for c in curves:
+        plan.add(c)
+    return make_job(plan, curves)
+
+
 def test_union_rows_skip_missing_geometry():
     g = np.array([shapely.box(0, 0, 1, 1), None, shapely.box(1, 0, 2, 1)], dtype=object)
     out = _union_rows([[0, 1, 2], [1], [0, 1]], g)
@@ -97,8 +117,7 @@ def test_areas_built_in_parts_equal_those_built_alone(monkeypatch, halves_min, p
     else:
         half = areas._halfway(curves)
         assert sorted(parts[1:]) == sorted([half, len(curves) - half]) and not sent
-    for one, two in zip(built[1], built[2], strict=True):
-        assert [shapely.to_wkb(g) for g in one] == [shapely.to_wkb(g) for g in two]
+    assert _wkb(built[1]) == _wkb(built[2])
 
 
 def test_a_worker_that_fails_costs_time_never_an_area(monkeypatch):
@@ -120,8 +139,7 @@ def test_a_worker_that_fails_costs_time_never_an_area(monkeypatch):
     helper.proc.wait()
     again = areas.build_areas(AreaIndex(net), curves)
     assert area_worker.worker() is None  # given up on, for good ...
-    for one, two in zip(alone, again, strict=True):  # ... and the areas are all there
-        assert [shapely.to_wkb(g) for g in one] == [shapely.to_wkb(g) for g in two]
+    assert _wkb(alone) == _wkb(again)  # ... and the areas are all there
     area_worker.stop()
     assert area_worker.worker() is not None  # a new one after an explicit stop
 
@@ -131,16 +149,9 @@ def test_the_worker_answers_a_bad_job_with_an_empty_message_and_goes_on():
     import pickle
 
     from networks import area_worker
-    from networks.area_groups import AreaIndex, BatchPlan
-    from networks.areas import make_job, run_job
-    from networks.samples.sources import SAMPLES_DIR
+    from networks.areas import run_job
 
-    net = read_network(SAMPLES_DIR / "intersection" / "intersection.net.xml")
-    curves = extract_curves(net, areas=False)
-    plan = BatchPlan(AreaIndex(net))
-    for c in curves:
-        plan.add(c)
-    job = make_job(plan, curves)
+    job = _intersection_job()
     inp = io.BytesIO()
     area_worker._write(inp, pickle.dumps("not a job"))
     area_worker._write(inp, pickle.dumps(job))
@@ -149,10 +160,8 @@ def test_the_worker_answers_a_bad_job_with_an_empty_message_and_goes_on():
     assert area_worker.serve(inp, out) == 0
     out.seek(0)
     assert area_worker._read(out) == b""
-    own, roadway, paved = (shapely.from_wkb(x) for x in pickle.loads(area_worker._read(out)))
-    here = run_job(job)
-    for one, two in zip(here, (own, roadway, paved), strict=True):
-        assert [shapely.to_wkb(g) for g in one] == [shapely.to_wkb(g) for g in two]
+    answer = [shapely.from_wkb(x) for x in pickle.loads(area_worker._read(out))]
+    assert len(answer) == 3 and _wkb(run_job(job)) == _wkb(answer)
     assert area_worker._read(out) is None
 
 
@@ -217,16 +226,9 @@ def test_what_a_job_prints_does_not_reach_the_answers():
     from pathlib import Path
 
     from networks import area_worker
-    from networks.area_groups import AreaIndex, BatchPlan
-    from networks.areas import make_job, run_job
-    from networks.samples.sources import SAMPLES_DIR
+    from networks.areas import run_job
 
-    net = read_network(SAMPLES_DIR / "intersection" / "intersection.net.xml")
-    curves = extract_curves(net, areas=False)
-    plan = BatchPlan(AreaIndex(net))
-    for c in curves:
-        plan.add(c)
-    job = make_job(plan, curves)
+    job = _intersection_job()
     code = (  # a worker whose every job prints, at Python and at C level, to stdout
         "import os, sys\n"
         "from networks import area_worker\n"
@@ -245,9 +247,7 @@ def test_what_a_job_prints_does_not_reach_the_answers():
     got = helper.receive()
     helper.stop()
     assert b"a stray print" in proc.stderr.read()
-    assert got is not None
-    for one, two in zip(run_job(job), got, strict=True):
-        assert [shapely.to_wkb(g) for g in one] == [shapely.to_wkb(g) for g in two]
+    assert got is not None and _wkb(run_job(job)) == _wkb(got)
 
 
 def test_threads_building_areas_at_once_share_the_worker_safely(monkeypatch):
@@ -271,13 +271,12 @@ def test_threads_building_areas_at_once_share_the_worker_safely(monkeypatch):
         out = []
         for _ in range(8):
             got = areas.build_areas(index, halves[i], ahead=halves[1 - i])
-            out.append([shapely.to_wkb(g) for part in got for g in part])
+            out.append(_wkb(got))
         return out
 
     with ThreadPoolExecutor(4) as pool:
         results = list(pool.map(build, [0, 1, 0, 1]))
-    singles = [[shapely.to_wkb(g) for part in areas.build_areas(index, h) for g in part]
-               for h in halves]
+    singles = [_wkb(areas.build_areas(index, h)) for h in halves]
     for i, runs in enumerate(results):
         assert all(r == singles[i % 2] for r in runs)
     area_worker.stop()
