@@ -24,9 +24,11 @@ is generated once into a cache directory outside the repository, then:
    the areas use :data:`~networks.areas.WORKERS` threads (a batch is built as two halves
    at once and the shapely calls are split between threads; ``CLEARANCE_THREADS=1``
    builds everything in one thread). By default part of each batch is built by a worker
-   process (:mod:`networks.area_worker`; ``CLEARANCE_PROCESS=0`` uses threads only); its
-   peak memory (``VmHWM``) is added to the process's own for the memory target (the
-   reader's second process has ended before the curves are extracted).
+   process (:mod:`networks.area_worker`; ``CLEARANCE_PROCESS=0`` uses threads only),
+   which starts on the first batches while the curves are still being extracted
+   (``extract_curves(..., build_ahead=True)``, as a study does); its peak memory
+   (``VmHWM``) is added to the process's own for the memory target (the reader's second
+   process has ended before the curves are extracted).
 
 Targets on a 2-core machine: reading ≤ 5 s, extracting every curve ≤ 30 s, peak memory
 ≤ 1.5 GB. Run::
@@ -83,8 +85,13 @@ elif what == "extract":
     out["read_s"] = time.perf_counter() - t0
     out["read_peak_mb"] = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
     t1, c1 = time.perf_counter(), time.process_time()
-    curves = extract_curves(net)  # areas=True: every curve gets its areas, built on demand
+    # areas=True: every curve gets its areas, built on demand (and ahead: all are read)
+    curves = extract_curves(net, build_ahead=True)
     t2, c2 = time.perf_counter(), time.process_time()
+    from networks import area_worker
+
+    running = area_worker._WORKER
+    out["sent_ahead"] = running[1]._sent if running is not None and running[1] else 0
     out["curves_rss_mb"] = rss_mb()
     # build and check the three areas of EVERY curve, in curve order: each batch is built
     # when its first curve is read; the book keeps at most MAX_BATCHES batches at once
@@ -100,12 +107,12 @@ elif what == "extract":
     out["batches"] = len(book.batches) if book else 0
     out["batches_built"] = book.built if book else 0
     out["batch_curves"], out["max_batches"] = BATCH_CURVES, MAX_BATCHES
-    from networks import area_worker
-    from networks.area_worker import PROCESS_SHARE, use_process
+    from networks.area_worker import PROCESS_SHARE, share, use_process
     from networks.areas import WORKERS
     out["workers"] = WORKERS
     out["process"] = use_process() and WORKERS > 1
     out["process_share"] = PROCESS_SHARE
+    out["last_share"] = share()
     out["worker_peak_mb"] = 0.0
     running = area_worker._WORKER
     if running is not None and running[1] is not None:  # its own peak since it started
@@ -218,8 +225,10 @@ def main(argv: list[str] | None = None) -> int:
         f"[target {TARGET_EXTRACT_S:.0f} s: {verdict(total, TARGET_EXTRACT_S)}]"
     )
     how = (
-        f"{100 * ext['process_share']:.0f} % of each batch's curves by a worker process, "
-        f"which used {ext.get('worker_cpu_s', 0.0):.2f} s of CPU"
+        f"part of each batch's curves by a worker process ({100 * ext['process_share']:.0f} %"
+        f" at first, {100 * ext['last_share']:.0f} % at the end; {ext['sent_ahead']} batches'"
+        f" parts sent while the curves were extracted), which used "
+        f"{ext.get('worker_cpu_s', 0.0):.2f} s of CPU"
         if ext["process"] else f"{ext['workers']} thread(s), no worker process"
     )
     print(

@@ -15,15 +15,17 @@ valid; the book only drops its own references.
 
 Curves are in kind then id order, so a junction's turns are consecutive and a sweep over
 the curves in that order builds each batch once. When batches are read in that order, the
-worker process that builds part of each large batch (:mod:`networks.area_worker`) is given
-its part of the next batch as soon as it is done with this one's, so that it is never idle
-while this process reads its answer and builds its own part; a read out of order drops
-that work (see :func:`networks.areas.build_areas`).
+worker process that builds part of each large batch (:mod:`networks.area_worker`) has its
+parts of the next batches queued, so that it is never idle while this process reads its
+answer and builds its own part; a read out of order drops that work (see
+:func:`networks.areas.build_areas`). A caller that will read every curve's areas in
+order can have the worker start on the first batches while the curves are still being
+extracted (an :class:`AreaFeed`).
 """
 
 from __future__ import annotations
 
-from collections import OrderedDict
+from collections import OrderedDict, deque
 from collections.abc import Sequence
 from typing import TYPE_CHECKING
 
@@ -39,6 +41,10 @@ BATCH_CURVES = 8192
 #: Batches whose areas an :class:`AreaBook` keeps at once (the oldest is released first).
 MAX_BATCHES = 2
 
+#: Batches after the one built that a book read in order names as next (the worker's
+#: parts of those not queued yet are queued, up to its limit).
+LOOKAHEAD = 8
+
 
 class AreaBook:
     """Builds the areas of a list of curves on demand, per batch, keeping a few batches.
@@ -50,9 +56,13 @@ class AreaBook:
     curves
         The curves (in the order they are usually read: batches are runs of it).
     batch_curves
-        Curves per batch (at least; a junction's curves are not split).
+        Curves per batch (at least; a junction's curves are not split; default
+        :data:`BATCH_CURVES`).
     max_batches
-        Batches kept at once (at least 1).
+        Batches kept at once (at least 1; default :data:`MAX_BATCHES`).
+    index
+        The network's :class:`~networks.area_groups.AreaIndex`, when already made (e.g.
+        by an :class:`AreaFeed`).
 
     Attributes
     ----------
@@ -78,13 +88,16 @@ class AreaBook:
         self,
         net: Network,
         curves: Sequence[Curve],
-        batch_curves: int = BATCH_CURVES,
-        max_batches: int = MAX_BATCHES,
+        batch_curves: int | None = None,
+        max_batches: int | None = None,
+        index: AreaIndex | None = None,
     ):
+        batch_curves = BATCH_CURVES if batch_curves is None else batch_curves
+        max_batches = MAX_BATCHES if max_batches is None else max_batches
         if batch_curves < 1 or max_batches < 1:
             raise ValueError("batch_curves and max_batches must be >= 1")
         self.net = net
-        self._index: AreaIndex | None = None
+        self._index = index
         self.max_batches = max_batches
         self.batches: list[tuple[Curve, ...]] = _batches(curves, batch_curves)
         self.built = 0
@@ -112,11 +125,10 @@ class AreaBook:
         from networks.areas import build_areas
 
         curves = self.batches[batch]
-        # read in order (the first batch, or the one after the last built): the next batch
-        # is likely next, and a worker process may start on its part at once
-        nxt = batch + 1
-        ahead = self.batches[nxt] if nxt < len(self.batches) and self._last in (
-            None, batch - 1) else None
+        # read in order (the first batch, or the one after the last built): the next
+        # batches are likely next, and a worker process may start on its parts at once
+        in_order = self._last in (None, batch - 1)
+        ahead = self.batches[batch + 1 : batch + 1 + LOOKAHEAD] if in_order else ()
         own, roadway, paved = build_areas(self.index, curves, ahead)
         self._last = batch
         for c, o, r, p in zip(curves, own, roadway, paved, strict=True):
@@ -137,6 +149,76 @@ class AreaBook:
         for c in self.batches[batch]:
             if c.area_book is self:
                 c.set_areas(None, None, None, book=self)
+
+
+class AreaFeed:
+    """Gives the worker process its parts of the first batches of curves while the rest
+    are still being extracted (:func:`networks.curves.extract_curves` with
+    ``build_ahead``), so that it is not idle meanwhile; the :class:`AreaBook` made for the
+    curves then finds those parts in flight when it is read in order.
+
+    :meth:`offer` the curves extracted so far, each time more are there: a prefix of the
+    final list of curves, in its order (the batches cut from it are then those the book
+    cuts). Batches are sent when complete, in order, while the worker can take them
+    (:func:`networks.area_worker.send_ahead`); nothing is sent when no worker process is
+    used.
+
+    Parameters
+    ----------
+    net
+        The network the curves come from.
+    batch_curves
+        Curves per batch (as the book's; default :data:`BATCH_CURVES`).
+    worker
+        Use the worker process (started now, so that it is ready for the first batch);
+        False: the batches are found, nothing is sent.
+    """
+
+    def __init__(self, net: Network, batch_curves: int | None = None, worker: bool = True):
+        from networks import area_worker, areas
+
+        self.net = net
+        self.batch_curves = BATCH_CURVES if batch_curves is None else batch_curves
+        self.index: AreaIndex | None = None
+        self.sent = 0  # curves whose batches were sent (a prefix)
+        self._ready: deque[tuple[int, int]] = deque()  # complete batches not sent yet
+        self._start = 0  # where the batch being completed starts
+        self._seen = 0  # curves looked at so far
+        self._on = worker and area_worker.use_process() and areas._may_split()
+        if self._on:
+            area_worker.worker()  # it starts up while the curves are extracted
+
+    def offer(self, curves: Sequence[Curve]) -> None:
+        """Send the worker the complete batches of ``curves`` not sent yet (see above).
+
+        Examples
+        --------
+        >>> from types import SimpleNamespace as NS
+        >>> feed = AreaFeed(None, batch_curves=2, worker=False)  # the batches are only found
+        >>> feed.offer([NS(junction=j) for j in "AAAB"]); list(feed._ready)
+        [(0, 3)]
+        >>> feed.offer([NS(junction=j) for j in "AAABBBC"]); list(feed._ready)
+        [(0, 3), (3, 6)]
+        """
+        size = self.batch_curves
+        # a batch ends at the first change of junction after ``size`` curves (_batches)
+        for i in range(max(self._seen, self._start + size), len(curves)):
+            if i - self._start >= size and curves[i].junction != curves[i - 1].junction:
+                self._ready.append((self._start, i))
+                self._start = i
+        self._seen = max(self._seen, len(curves))
+        if not self._on:
+            return
+        from networks.area_worker import send_ahead
+
+        while self._ready:
+            a, b = self._ready[0]
+            if self.index is None:
+                self.index = AreaIndex(self.net)
+            if not send_ahead(self.index, tuple(curves[a:b])):
+                return
+            self._ready.popleft()
+            self.sent = b
 
 
 def _batches(curves: Sequence[Curve], size: int) -> list[tuple[Curve, ...]]:

@@ -350,7 +350,7 @@ def _junction_polygons(points: np.ndarray, counts: np.ndarray) -> np.ndarray:
 
 
 def build_areas(
-    index: AreaIndex, curves: Sequence[Curve], ahead: Sequence[Curve] | None = None
+    index: AreaIndex, curves: Sequence[Curve], ahead: Sequence[Sequence[Curve]] = ()
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """The ``own_lanes``, ``roadway`` and ``paved`` areas of some curves (one array each).
 
@@ -364,11 +364,11 @@ def build_areas(
     running while the other's shapely calls run. The lanes, junction polygons and pieces
     are made for this call only. The areas are the same whichever way they are built.
 
-    ``ahead`` are the curves likely asked for next (the next batch of an
-    :class:`~networks.area_book.AreaBook` read in order): the worker's part of them is
-    queued behind this call's, so that the worker starts on it while this process reads
-    this call's answer and builds its own part of the next; a call for other curves
-    reads and drops that answer first (work lost, never a wrong area).
+    ``ahead`` are the runs of curves likely asked for next, in order (the next batches of
+    an :class:`~networks.area_book.AreaBook` read in order): the worker's parts of them
+    are queued behind this call's, so that the worker goes on with them while this
+    process reads this call's answer and builds its own part of the next; a call for
+    other curves reads and drops those answers first (work lost, never a wrong area).
     """
     if not curves:
         empty = np.empty(0, dtype=object)

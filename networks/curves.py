@@ -30,6 +30,7 @@ import logging
 import math
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass, field
+from operator import itemgetter
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -188,8 +189,9 @@ class CurveOptions:
 Item = tuple[str, str, str, PathPlan]
 
 
-#: Paths measured per batch (bounds the memory of the temporary arrays).
-MEASURE_BATCH = 20000
+#: Paths measured per batch (bounds the memory of the temporary arrays; for turns, also
+#: how often an :class:`~networks.area_book.AreaFeed` is offered them).
+MEASURE_BATCH = 4096
 
 
 def measure(
@@ -518,6 +520,7 @@ def extract_curves(
     kinds: Iterable[str] = KINDS,
     options: CurveOptions | None = None,
     areas: bool = True,
+    build_ahead: bool = False,
 ) -> list[Curve]:
     """Every curve of the requested kinds, sorted by kind then ``curve_id``.
 
@@ -534,6 +537,12 @@ def extract_curves(
         on first use, for a batch of curves at a time, and at most a few batches are kept
         (:class:`networks.area_book.AreaBook`); :func:`networks.areas.attach_areas` builds
         and keeps them all at once.
+    build_ahead
+        With ``areas``, for a caller that will read every curve's areas in order (a
+        study, a benchmark): a worker process starts building the areas of each complete
+        batch of turns while the rest are still being extracted
+        (:class:`networks.area_book.AreaFeed`). The curves and areas are the same; a
+        caller that reads few areas only loses time.
 
     Raises
     ------
@@ -546,14 +555,26 @@ def extract_curves(
         raise InputError(f"unknown curve kind(s) {', '.join(bad)}; choose from {', '.join(KINDS)}")
     opts = options or CurveOptions()
     with gc_paused():  # hundreds of thousands of objects that live on (see gc_paused)
-        return _extract(net, wanted, opts, areas)
+        return _extract(net, wanted, opts, areas, build_ahead)
 
 
-def _extract(net: Network, wanted: list[str], opts: CurveOptions, areas: bool) -> list[Curve]:
+def _extract(
+    net: Network, wanted: list[str], opts: CurveOptions, areas: bool, ahead: bool = False
+) -> list[Curve]:
+    from networks.area_book import AreaBook, AreaFeed
+
     curves: list[Curve] = []
     table = LaneTable(net)  # every lane's shape and length, for this extraction only
+    # turns come first in the final order (KINDS): batches of them are final once measured
+    feed = AreaFeed(net) if areas and ahead and "turn" in wanted else None
     if "turn" in wanted:
-        curves.extend(measure(net, list(find_turns(net, opts, table)), opts, table))
+        # in their final order, a batch at a time (the same curves whether or not a feed
+        # is offered them: a batch's centre lines are realised together)
+        items = sorted(find_turns(net, opts, table), key=itemgetter(0))
+        for lo in range(0, len(items), MEASURE_BATCH):
+            curves.extend(_measure(net, items[lo : lo + MEASURE_BATCH], opts, table))
+            if feed is not None:
+                feed.offer(curves)
     if "roundabout" in wanted:
         curves.extend(measure(net, list(find_roundabouts(net, opts, table)), opts, table))
     ramp_edges: set[str] = set()
@@ -565,8 +586,6 @@ def _extract(net: Network, wanted: list[str], opts: CurveOptions, areas: bool) -
         curves.extend(measure(net, list(find_bends(net, opts, ramp_edges, table)), opts, table))
     order = {k: i for i, k in enumerate(KINDS)}
     curves.sort(key=lambda c: (order[c.kind], c.curve_id))
-    if areas:
-        from networks.area_book import AreaBook
-
-        AreaBook(net, curves)  # the areas are built when first read
+    if areas:  # the areas are built when first read
+        AreaBook(net, curves, index=feed.index if feed is not None else None)
     return curves

@@ -129,7 +129,7 @@ def load_networks(paths: Sequence[str | Path], longest_m: float) -> list[Network
     for p in paths:
         path = Path(p)
         net = read_network(path)
-        curves = extract_curves(net, options=opts)
+        curves = extract_curves(net, options=opts, build_ahead=True)
         name = network_name(path, [n.name for n in out])
         if not curves:
             log.warning("%s: no curves found", path)

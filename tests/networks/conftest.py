@@ -36,3 +36,14 @@ def build_net(tmp_path: Path, netconvert: Path):
         )
 
     return build
+
+
+@pytest.fixture(scope="session")
+def small_grid(tmp_path_factory, netconvert: Path) -> Path:
+    """A 5 x 5 grid of two-lane streets (netgenerate, as the benchmark's 100 x 100 one)."""
+    from networks.sumo_tools import run_sumo_tool
+
+    path = tmp_path_factory.mktemp("grid") / "grid5.net.xml"
+    run_sumo_tool("netgenerate", ["--grid", "--grid.number", "5", "--default.lanenumber", "2",
+                                  "-o", str(path)])
+    return path

@@ -112,39 +112,121 @@ def test_read_in_order_the_worker_starts_on_the_next_batch_and_a_jump_drops_it(m
     monkeypatch.setattr(areas, "HALVES_MIN", 2)
     monkeypatch.setattr(areas, "WORKERS", 2)
     monkeypatch.setenv("CLEARANCE_PROCESS", "1")
+    monkeypatch.setattr(area_worker, "SHARE_GAIN", 0.0)  # the cuts stay where they are
+    # a job counts as unanswered until its answer is read (not when it arrives, which
+    # depends on timing): at most two are queued
+    monkeypatch.setattr(area_worker.AreaWorker, "backlog", lambda w: w._sent - w._taken)
     book = AreaBook(net, curves, batch_curves=6, max_batches=2)
     b = book.batches
     split = [i for i, batch in enumerate(b) if areas._halfway(batch, 0.5)]
     assert split == [0, 1, 2, 3]  # four batches, each in two parts
-    sent, behind = [], []
-    send, send_behind = area_worker.AreaWorker.send, area_worker.AreaWorker.send_behind
-    monkeypatch.setattr(area_worker.AreaWorker, "send",
-                        lambda w, j: sent.append(len(j.own_counts)) or send(w, j))
-    monkeypatch.setattr(area_worker.AreaWorker, "send_behind",
-                        lambda w, j: behind.append(len(j.own_counts)) or send_behind(w, j))
+    sent: list[int] = []
+    queue = area_worker._queue
+
+    def record(helper, index, run, **kw):
+        sent.append(next(i for i, batch in enumerate(b) if batch is run))
+        return queue(helper, index, run, **kw)
+
+    monkeypatch.setattr(area_worker, "_queue", record)
     area_worker.stop()
 
-    def part(i: int) -> int:  # the curves of batch i the worker builds
-        return len(b[i]) - areas._halfway(b[i], 1.0 - area_worker.PROCESS_SHARE)
-
-    book.load(0)  # batch 0's part sent, batch 1's queued behind it
-    assert sent == [part(0)] and behind == [part(1)]
+    book.load(0)  # batch 0's part sent, and batch 1's queued behind it (two at most)
+    assert sent == [0, 1]
     book.load(1)  # batch 1's part was already there; batch 2's queued
-    assert sent == [part(0)] and behind == [part(1), part(2)]
+    assert sent == [0, 1, 2]
     book.load(3)  # a jump: batch 2's answer is read and dropped, batch 3's part sent
-    assert sent == [part(0), part(3)] and behind == [part(1), part(2)]
-    assert area_worker.worker() is not None  # still in use
+    assert sent == [0, 1, 2, 3]
+    helper = area_worker.worker()
+    assert helper is not None and not helper.inflight  # still in use, nothing queued
     for c, e in zip(curves, eager, strict=True):
         if c.area_batch in book.held():
             for mine, theirs in ((c.own_lanes, e.own_lanes), (c.roadway, e.roadway),
                                  (c.paved, e.paved)):
                 assert shapely.to_wkb(mine) == shapely.to_wkb(theirs), c.curve_id
-    book.load(2)  # nothing was queued behind 3 (read out of order): sent now, none behind
-    assert sent == [part(0), part(3), part(2)] and behind == [part(1), part(2)]
-    book.load(3)  # in order again: batch 3 is the last, nothing to queue
-    assert len(sent) == 4 and len(behind) == 2
+    book.load(2)  # read out of order: sent now, nothing queued behind it
+    assert sent == [0, 1, 2, 3, 2]
+    book.load(3)  # in order again, but batch 3 is the last: nothing to queue
+    assert sent == [0, 1, 2, 3, 2, 3]
     book.load(0)  # a jump back: nothing queued
     book.load(1)  # in order: batch 2's part queued, in flight when the worker is stopped
-    assert len(sent) == 6 and len(behind) == 3
+    assert sent == [0, 1, 2, 3, 2, 3, 0, 1, 2] and len(helper.inflight) == 1
     area_worker.stop()  # (at once: nobody will read that answer)
-    assert area_worker._WORKER is None
+    assert area_worker._WORKER is None and helper.proc.poll() is not None
+
+
+def _curve_values(c) -> tuple:
+    return (c.curve_id, c.kind, c.junction, c.lanes, c.core_lanes, c.centerline.tobytes(),
+            c.core_start_m, c.core_end_m, c.profile_radius_m.tobytes(), c.min_radius_m,
+            c.turn_angle_deg, c.length_m, c.lane_width_m, c.max_grade_pct,
+            c.max_grade_change_pct)
+
+
+@pytest.mark.parametrize("process", ["1", "0"])
+def test_areas_built_ahead_while_extracting_are_the_same_and_are_used(
+    monkeypatch, process, small_grid
+):
+    from networks import area_book, area_worker, areas
+    from networks import curves as curves_module
+
+    monkeypatch.setattr(area_book, "BATCH_CURVES", 40)
+    monkeypatch.setattr(curves_module, "MEASURE_BATCH", 30)
+    net = read_network(small_grid)
+    plain = extract_curves(net, areas=False)
+    attach_areas(net, plain)
+    monkeypatch.setattr(areas, "HALVES_MIN", 2)
+    monkeypatch.setattr(areas, "WORKERS", 2)
+    monkeypatch.setenv("CLEARANCE_PROCESS", process)
+    # a job counts as unanswered until its answer is read (not when it arrives, which
+    # depends on timing): at most two are sent while the curves are extracted
+    monkeypatch.setattr(area_worker.AreaWorker, "backlog", lambda w: w._sent - w._taken)
+    sent: list = []
+    queue = area_worker._queue
+    monkeypatch.setattr(area_worker, "_queue", lambda helper, index, run, **kw: (
+        sent.append(run) or queue(helper, index, run, **kw)))
+    area_worker.stop()
+    ahead = extract_curves(net, build_ahead=True)
+    during = len(sent)
+    book = ahead[0].area_book
+    assert len(book.batches) >= 4
+    # the same curves, in the same order, with the same areas
+    assert [_curve_values(c) for c in ahead] == [_curve_values(c) for c in plain]
+    for c, e in zip(ahead, plain, strict=True):
+        for mine, theirs in ((c.own_lanes, e.own_lanes), (c.roadway, e.roadway),
+                             (c.paved, e.paved)):
+            assert shapely.to_wkb(mine) == shapely.to_wkb(theirs), c.curve_id
+    if process == "0":
+        assert not sent
+        return
+    assert during == 2  # the first two batches' parts went out while extracting
+    # every batch's part was sent once, in order: those sent ahead were used, not dropped
+    at = [next(i for i, b in enumerate(book.batches) if list(b) == list(run)) for run in sent]
+    assert at == list(range(len(book.batches)))
+    area_worker.stop()
+
+
+def test_a_worker_that_dies_with_batches_sent_ahead_costs_no_area(monkeypatch, small_grid):
+    from networks import area_book, area_worker, areas
+    from networks import curves as curves_module
+
+    monkeypatch.setattr(area_book, "BATCH_CURVES", 40)
+    monkeypatch.setattr(curves_module, "MEASURE_BATCH", 30)
+    monkeypatch.setattr(areas, "HALVES_MIN", 2)
+    monkeypatch.setattr(areas, "WORKERS", 2)
+    monkeypatch.setenv("CLEARANCE_PROCESS", "1")
+    monkeypatch.setattr(area_worker, "QUEUED_PARTS", 10)
+    monkeypatch.setattr(area_worker, "MAX_INFLIGHT", 3)  # at most three answers waiting
+    net = read_network(small_grid)
+    plain = extract_curves(net, areas=False)
+    attach_areas(net, plain)
+    area_worker.stop()
+    ahead = extract_curves(net, build_ahead=True)
+    helper = area_worker.worker()
+    assert helper is not None and len(helper.inflight) == 3
+    helper.proc.kill()  # dies with three parts sent ahead
+    helper.proc.wait()
+    for c, e in zip(ahead, plain, strict=True):
+        for mine, theirs in ((c.own_lanes, e.own_lanes), (c.roadway, e.roadway),
+                             (c.paved, e.paved)):
+            assert shapely.to_wkb(mine) == shapely.to_wkb(theirs), c.curve_id
+    assert area_worker.worker() is None  # given up on
+    area_worker.stop()

@@ -160,8 +160,10 @@ def test_the_worker_answers_a_bad_job_with_an_empty_message_and_goes_on():
     assert area_worker.serve(inp, out) == 0
     out.seek(0)
     assert area_worker._read(out) == b""
-    answer = [shapely.from_wkb(x) for x in pickle.loads(area_worker._read(out))]
+    *wkb, (run_s, idle_s) = pickle.loads(area_worker._read(out))
+    answer = [shapely.from_wkb(x) for x in wkb]
     assert len(answer) == 3 and _wkb(run_job(job)) == _wkb(answer)
+    assert run_s > 0 and idle_s >= 0  # how long it built, how long it waited for the job
     assert area_worker._read(out) is None
 
 
@@ -270,7 +272,7 @@ def test_threads_building_areas_at_once_share_the_worker_safely(monkeypatch):
     def build(i: int) -> list[bytes]:
         out = []
         for _ in range(8):
-            got = areas.build_areas(index, halves[i], ahead=halves[1 - i])
+            got = areas.build_areas(index, halves[i], ahead=[halves[1 - i]])
             out.append(_wkb(got))
         return out
 
@@ -280,3 +282,29 @@ def test_threads_building_areas_at_once_share_the_worker_safely(monkeypatch):
     for i, runs in enumerate(results):
         assert all(r == singles[i % 2] for r in runs)
     area_worker.stop()
+
+
+def test_the_share_moves_towards_the_side_that_waited_less():
+    from networks import area_worker
+
+    def part(share: float, ahead: bool = True):
+        curves = list(range(1000))
+        return area_worker._Part(curves, int(1000 * (1 - share)), None, None, share, ahead)
+
+    balance = area_worker._Balance()
+    assert balance.share == area_worker.PROCESS_SHARE
+    balance.answered(part(0.65), 0.0, 0.65, 0.0)  # nothing of this process measured yet
+    assert balance.share == area_worker.PROCESS_SHARE
+    balance.measured("own", 0.35, 350)  # this process: 1 ms per curve of its own part ...
+    balance.measured("plan", 0.0, 650)  # ... and nothing to send the worker its part
+    balance.answered(part(0.65), 0.0, 0.65, 0.0)  # the worker: 1 ms per curve: balance 0.5
+    assert balance.share == pytest.approx(0.575)
+    balance.answered(part(0.575), -2.0, 0.575, 0.0)  # its answer waited 2 s: worker ahead
+    assert balance.share > 0.575
+    higher = balance.share
+    balance.answered(part(higher), 2.0, higher, 0.0)  # this process waited 2 s
+    assert balance.share < higher
+    lower = balance.share
+    balance.answered(part(lower, ahead=False), 0.0, lower, 5.0)  # it waited for a first job
+    # not counted: as if neither had waited (this share was not the reason)
+    assert balance.share == area_worker.next_share(lower, 0.0, 1000, 1e-3, 0.0, 1e-3)
