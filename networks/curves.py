@@ -30,6 +30,7 @@ import logging
 import math
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass, field
+from itertools import islice
 from operator import itemgetter
 from typing import TYPE_CHECKING
 
@@ -276,11 +277,20 @@ def find_turns(
     lanes = net.lanes
     approach = opts.approach_length_m
     junction_ids: dict[str, str] = {}  # one string per junction, shared by its turns
+    named = []  # every candidate with its id first, to be planned in id order
     for conn in net.connections:
         from_edge, to_edge, from_index, to_index, via, _ = conn
         if not via or from_edge.startswith(":"):
             continue
+        junction = junction_of_internal(via)  # (the first of its via lanes)
+        if junction in ring_nodes:
+            continue
+        junction = junction_ids.setdefault(junction, junction)
         from_lane, to_lane = f"{from_edge}_{from_index}", f"{to_edge}_{to_index}"
+        named.append((f"turn:{junction}:{from_lane}->{to_lane}", junction, from_lane, to_lane,
+                      conn))
+    named.sort(key=itemgetter(0))
+    for curve_id, junction, from_lane, to_lane, conn in named:
         a, b = lanes.get(from_lane), lanes.get(to_lane)
         if a is None or b is None or a.function == "internal":
             continue
@@ -289,12 +299,8 @@ def find_turns(
         vias = via_lanes(net, conn)
         if not vias:
             continue
-        junction = junction_of_internal(vias[0])
-        if junction in ring_nodes:
-            continue
-        junction = junction_ids.setdefault(junction, junction)
         path = plan_path(net, [from_lane], vias, [to_lane], approach, approach, table=table)
-        yield (f"turn:{junction}:{from_lane}->{to_lane}", "turn", junction, path)
+        yield (curve_id, "turn", junction, path)
 
 
 def find_roundabouts(
@@ -570,9 +576,9 @@ def _extract(
     if "turn" in wanted:
         # in their final order, a batch at a time (the same curves whether or not a feed
         # is offered them: a batch's centre lines are realised together)
-        items = sorted(find_turns(net, opts, table), key=itemgetter(0))
-        for lo in range(0, len(items), MEASURE_BATCH):
-            curves.extend(_measure(net, items[lo : lo + MEASURE_BATCH], opts, table))
+        turns = find_turns(net, opts, table)
+        while items := list(islice(turns, MEASURE_BATCH)):
+            curves.extend(_measure(net, items, opts, table))
             if feed is not None:
                 feed.offer(curves)
     if "roundabout" in wanted:

@@ -207,3 +207,15 @@ def test_ids_are_stable_and_unique(build_net):
     a = [c.curve_id for c in extract_curves(read_network(path))]
     b = [c.curve_id for c in extract_curves(read_network(path))]
     assert a == b and len(set(a)) == len(a)
+
+
+def test_turns_are_found_in_the_order_of_their_ids(small_grid):
+    from networks.curves import find_turns
+
+    net = read_network(small_grid)
+    ids = [item[0] for item in find_turns(net, CurveOptions())]
+    # one per connection through a junction (5 x 5 grid of two-lane streets), in the
+    # order the curves are sorted in, so that a batch of them is final once measured
+    assert len(ids) == len(set(ids)) > 100
+    assert ids == sorted(ids)
+    assert [c.curve_id for c in extract_curves(net, ["turn"], areas=False)] == ids
