@@ -170,8 +170,9 @@ class AreaFeed:
     batch_curves
         Curves per batch (as the book's; default :data:`BATCH_CURVES`).
     worker
-        Use the worker process (started now, so that it is ready for the first batch);
-        False: the batches are found, nothing is sent.
+        Use the worker process (started now when the network has a batch's worth of
+        connections, so that it is ready for the first batch); False: the batches are
+        found, nothing is sent.
     """
 
     def __init__(self, net: Network, batch_curves: int | None = None, worker: bool = True):
@@ -185,8 +186,8 @@ class AreaFeed:
         self._start = 0  # where the batch being completed starts
         self._seen = 0  # curves looked at so far
         self._on = worker and area_worker.use_process() and areas._may_split()
-        if self._on:
-            area_worker.worker()  # it starts up while the curves are extracted
+        if self._on and len(net.connections) >= self.batch_curves:
+            area_worker.worker()  # likely needed: it starts up while curves are extracted
 
     def offer(self, curves: Sequence[Curve]) -> None:
         """Send the worker the complete batches of ``curves`` not sent yet (see above).

@@ -230,3 +230,14 @@ def test_a_worker_that_dies_with_batches_sent_ahead_costs_no_area(monkeypatch, s
             assert shapely.to_wkb(mine) == shapely.to_wkb(theirs), c.curve_id
     assert area_worker.worker() is None  # given up on
     area_worker.stop()
+
+
+def test_building_ahead_on_a_small_network_starts_no_worker(monkeypatch):
+    from networks import area_worker, areas
+
+    monkeypatch.setattr(areas, "WORKERS", 2)
+    monkeypatch.setenv("CLEARANCE_PROCESS", "1")
+    area_worker.stop()
+    curves = extract_curves(_net("roundabout"), build_ahead=True)  # no batch to send
+    assert area_worker._WORKER is None
+    assert all(c.paved is not None for c in curves) and area_worker._WORKER is None
