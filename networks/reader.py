@@ -492,7 +492,7 @@ class _ParseState:
         if not self.edges:
             raise InputError(f"{self.path}: the network is empty (no <edge> elements)")
         self.settle_shapes()
-        return Network(
+        net = Network(
             path=self.path,
             lanes=self.lanes,
             edges=self.edges,
@@ -501,3 +501,7 @@ class _ParseState:
             roundabouts=self.roundabouts,
             location=self.location,
         )
+        # the state and its parser keep each other alive until a full collection (lxml's
+        # target parser): what only the state holds is freed now
+        self.connection_rows, self.lane_shapes, self.junction_shapes = [], [], []
+        return net
