@@ -26,7 +26,7 @@ extracted (an :class:`AreaFeed`).
 from __future__ import annotations
 
 from collections import OrderedDict, deque
-from collections.abc import Sequence
+from collections.abc import Iterator, Sequence
 from typing import TYPE_CHECKING
 
 from networks.area_groups import AreaIndex
@@ -201,12 +201,9 @@ class AreaFeed:
         >>> feed.offer([NS(junction=j) for j in "AAABBBC"]); list(feed._ready)
         [(0, 3), (3, 6)]
         """
-        size = self.batch_curves
-        # a batch ends at the first change of junction after ``size`` curves (_batches)
-        for i in range(max(self._seen, self._start + size), len(curves)):
-            if i - self._start >= size and curves[i].junction != curves[i - 1].junction:
-                self._ready.append((self._start, i))
-                self._start = i
+        for end in _ends(curves, self.batch_curves, self._start, self._seen):
+            self._ready.append((self._start, end))
+            self._start = end
         self._seen = max(self._seen, len(curves))
         if not self._on:
             return
@@ -231,13 +228,27 @@ def _batches(curves: Sequence[Curve], size: int) -> list[tuple[Curve, ...]]:
     >>> cs = [NS(junction=j) for j in "AABBBC"]
     >>> [[c.junction for c in b] for b in _batches(cs, 2)]
     [['A', 'A'], ['B', 'B', 'B'], ['C']]
+    >>> _batches([], 2)
+    []
     """
-    out: list[tuple[Curve, ...]] = []
-    start = 0
-    for i in range(1, len(curves) + 1):
-        if i == len(curves) or (
-            i - start >= size and curves[i].junction != curves[i - 1].junction
-        ):
-            out.append(tuple(curves[start:i]))
+    cuts = [0, *_ends(curves, size), len(curves)] if curves else []
+    return [tuple(curves[a:b]) for a, b in zip(cuts, cuts[1:], strict=False)]
+
+
+def _ends(
+    curves: Sequence[Curve], size: int, start: int = 0, seen: int = 0
+) -> Iterator[int]:
+    """Where the batches from ``start`` on end, but the last (which may still grow): each
+    at the first change of junction after ``size`` curves. ``seen``: the curves already
+    looked at (none of them ends a batch).
+
+    Examples
+    --------
+    >>> from types import SimpleNamespace as NS
+    >>> list(_ends([NS(junction=j) for j in "AABBBCC"], 2))
+    [2, 5]
+    """
+    for i in range(max(seen, start + size), len(curves)):
+        if i - start >= size and curves[i].junction != curves[i - 1].junction:
+            yield i
             start = i
-    return out

@@ -28,7 +28,7 @@ from __future__ import annotations
 
 import logging
 import math
-from collections.abc import Iterable, Sequence
+from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass, field
 from itertools import islice
 from operator import itemgetter
@@ -196,12 +196,22 @@ MEASURE_BATCH = 4096
 
 
 def measure(
-    net: Network, items: Sequence[Item], opts: CurveOptions, table: LaneTable | None = None
+    net: Network,
+    items: Iterable[Item],
+    opts: CurveOptions,
+    table: LaneTable | None = None,
+    each: Callable[[list[Curve]], None] | None = None,
 ) -> list[Curve]:
-    """Measure paths in batches: radius profile, turn angle, grades, width of the core."""
+    """Measure paths in batches: radius profile, turn angle, grades, width of the core.
+
+    ``items`` are taken :data:`MEASURE_BATCH` at a time as they come; ``each`` is given
+    the curves measured so far after every batch."""
     out: list[Curve] = []
-    for lo in range(0, len(items), MEASURE_BATCH):
-        out.extend(_measure(net, items[lo : lo + MEASURE_BATCH], opts, table))
+    pending = iter(items)
+    while batch := list(islice(pending, MEASURE_BATCH)):
+        out.extend(_measure(net, batch, opts, table))
+        if each is not None:
+            each(out)
     return out
 
 
@@ -574,13 +584,11 @@ def _extract(
     # turns come first in the final order (KINDS): batches of them are final once measured
     feed = AreaFeed(net) if areas and ahead and "turn" in wanted else None
     if "turn" in wanted:
-        # in their final order, a batch at a time (the same curves whether or not a feed
-        # is offered them: a batch's centre lines are realised together)
-        turns = find_turns(net, opts, table)
-        while items := list(islice(turns, MEASURE_BATCH)):
-            curves.extend(_measure(net, items, opts, table))
-            if feed is not None:
-                feed.offer(curves)
+        # in their final order, a batch at a time as they are found (the same curves
+        # whether or not a feed is offered them: a batch's centre lines are realised
+        # together); the turns come first, so what is measured is a prefix of the list
+        offer = feed.offer if feed is not None else None
+        curves.extend(measure(net, find_turns(net, opts, table), opts, table, offer))
     if "roundabout" in wanted:
         curves.extend(measure(net, list(find_roundabouts(net, opts, table)), opts, table))
     ramp_edges: set[str] = set()

@@ -4,6 +4,7 @@ against the vectorised numpy version they replaced (kept here as the reference).
 from __future__ import annotations
 
 import doctest
+from unittest import mock
 
 import numpy as np
 import pytest
@@ -23,29 +24,12 @@ RNG = np.random.default_rng(20240611)
 _GAP_M = 10.0
 
 
-def reference_profiles(lines, core_from_m, core_to_m, step_m=0.25, window_m=3.0,
-                       margin_m=None, adaptive=True, min_chord_m=1.5, max_window_m=15.0,
-                       chunk_lines=20000) -> Profiles:
-    """The vectorised numpy implementation, chunk by chunk as it was."""
-    margin = window_m if margin_m is None else margin_m
-    out_s, out_k, out_r, mins, turns, stations = [], [], [], [], [], []
-    a_all = np.asarray(core_from_m, dtype=float)
-    b_all = np.asarray(core_to_m, dtype=float)
-    for lo in range(0, len(lines), chunk_lines):
-        hi = min(lo + chunk_lines, len(lines))
-        s, k, r, m, t, st = _reference_chunk(lines[lo:hi], a_all[lo:hi], b_all[lo:hi], step_m,
-                                             window_m, margin, adaptive, min_chord_m,
-                                             max_window_m)
-        out_s += s
-        out_k += k
-        out_r += r
-        mins.append(m)
-        turns.append(t)
-        stations += st
-    empty = np.zeros(0)
-    return Profiles(out_s, stations, out_k, out_r,
-                    np.concatenate(mins) if mins else empty,
-                    np.concatenate(turns) if turns else empty)
+def reference_profiles(lines, core_from_m, core_to_m, chunk_lines=20000, **kw) -> Profiles:
+    """:func:`profiles` with its compiled chunks replaced by the numpy version below
+    (the loop over chunks, which only concatenates their results, is the library's)."""
+    with mock.patch.object(networks.profiles, "_chunk", _reference_chunk), \
+            mock.patch.object(networks.profiles, "CHUNK_LINES", chunk_lines):
+        return profiles(lines, core_from_m, core_to_m, **kw)
 
 
 def _reference_chunk(lines, a, b, step, window, margin, adaptive, min_chord, max_window):
