@@ -388,7 +388,13 @@ def _number(members: frozenset[str], ids: dict[frozenset[str], int], out: list) 
     n = ids.get(members)
     if n is None:
         n = ids[members] = len(out)
-        out.append(tuple(sorted(members, key=_member_order)))
+        first = [m for m in members if m[0] in "LJ"]  # the order of _member_order
+        if first:
+            first.sort()
+            first.extend(sorted(m for m in members if m[0] not in "LJ"))
+            out.append(tuple(first))
+        else:
+            out.append(tuple(sorted(members)))
     return n
 
 

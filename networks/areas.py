@@ -492,6 +492,8 @@ def make_job(plan: BatchPlan, curves: Sequence[Curve]) -> Job:
             lane_at.setdefault(k, len(lane_at))
     junction_ids: dict[str, int] = {}
     for members in (*plan.road_groups, *plan.paved_groups):
+        if not members or members[0][0] not in "LJ":
+            continue  # its members are pieces only (lanes and junctions sort first)
         for m in members:
             if m[0] == "L":
                 lane_at.setdefault(m[2:], len(lane_at))
@@ -535,7 +537,9 @@ def make_job(plan: BatchPlan, curves: Sequence[Curve]) -> Job:
     return Job(
         *_lane_arrays(plan.net, list(lane_at), SEAL_M),
         *_junction_arrays(plan.net, list(junction_ids)),
-        [list(r) for r in rows_of], [[at(m) for m in g] for g in plan.road_groups],
+        [list(r) for r in rows_of],
+        [list(map(piece_at.__getitem__, g)) if g and g[0][0] not in "LJ" else [at(m) for m in g]
+         for g in plan.road_groups],
         base_rows, inner_rows, *_own_arrays(curves),
     )
 
