@@ -22,6 +22,25 @@ REPEAT_M = 1e-6
 _SEQUENTIAL_MAX = 8
 
 
+def _stacked(shapes: list[np.ndarray]) -> np.ndarray | None:
+    """Shapes of (k, 3) points each, end to end; None when some shape is not (k, 3).
+
+    Examples
+    --------
+    >>> _stacked([np.zeros((2, 3)), np.ones((1, 3))]).shape
+    (3, 3)
+    >>> _stacked([np.zeros((2, 3)), np.zeros(3)]) is None, _stacked([]).shape
+    (True, (0, 3))
+    """
+    if not shapes:
+        return np.zeros((0, 3))
+    try:
+        raw = np.concatenate(shapes)  # as read: (k, 3) each
+    except ValueError:
+        return None
+    return raw if raw.ndim == 2 and raw.shape[1] == 3 else None
+
+
 class LaneTable:
     """The cleaned shape and the plane length of every lane of a network.
 
@@ -52,11 +71,14 @@ class LaneTable:
 
     def __init__(self, net: Network):
         self.ids = list(net.lanes)
-        self.index = {k: i for i, k in enumerate(self.ids)}
-        shapes = [lane.shape.reshape(-1, 3) for lane in net.lanes.values()]
-        n = len(shapes)
+        n = len(self.ids)
+        self.index = dict(zip(self.ids, range(n), strict=True))
+        shapes = [lane.shape for lane in net.lanes.values()]
+        raw = _stacked(shapes)
+        if raw is None:  # a shape of another layout (e.g. flat): each made (k, 3) first
+            shapes = [s.reshape(-1, 3) for s in shapes]
+            raw = np.concatenate(shapes)
         raw_count = np.fromiter(map(len, shapes), dtype=np.int64, count=n)
-        raw = np.concatenate(shapes) if n else np.zeros((0, 3))
         raw_start = np.concatenate(([0], np.cumsum(raw_count)[:-1])).astype(np.int64)
         d = raw[1:, :2] - raw[:-1, :2]
         step = np.hypot(d[:, 0], d[:, 1])

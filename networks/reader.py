@@ -188,22 +188,23 @@ class Network:
     def outgoing(self, lane_id: str) -> list[Connection]:
         """Connections leaving lane ``lane_id`` (also from internal lanes)."""
         if self._out is None:
-            self._out, self._in = self._index()
+            self._out = self._index(0)
         return self._out.get(lane_id, [])
 
     def incoming(self, lane_id: str) -> list[Connection]:
         """Connections entering lane ``lane_id`` (also into internal lanes)."""
         if self._in is None:
-            self._out, self._in = self._index()
+            self._in = self._index(1)
         return self._in.get(lane_id, [])
 
-    def _index(self) -> tuple[dict[str, list[Connection]], dict[str, list[Connection]]]:
-        out: dict[str, list[Connection]] = defaultdict(list)
-        inc: dict[str, list[Connection]] = defaultdict(list)
-        for c in self.connections:  # the lane ids as the from_lane / to_lane properties make them
-            out[f"{c[0]}_{c[2]}"].append(c)
-            inc[f"{c[1]}_{c[3]}"].append(c)
-        return dict(out), dict(inc)
+    def _index(self, end: int) -> dict[str, list[Connection]]:
+        """The connections by the lane they leave (``end`` 0) or enter (1); each index is
+        made when first asked for (extracting turns needs only the first)."""
+        index: dict[str, list[Connection]] = defaultdict(list)
+        edge, lane = end, end + 2  # the lane ids as the from_lane / to_lane properties make them
+        for c in self.connections:
+            index[f"{c[edge]}_{c[lane]}"].append(c)
+        return dict(index)
 
 
 def read_network(path: str | os.PathLike[str]) -> Network:

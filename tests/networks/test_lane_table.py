@@ -39,3 +39,16 @@ def test_long_lanes_repeated_points_and_gather():
     assert count.tolist() == [3, 1, 3]
     assert np.array_equal(pts, np.vstack([table.line("dup_0"), table.line("one_0"),
                                           table.line("dup_0")]))
+
+
+def test_flat_shapes_read_as_points():
+    """A shape given as flat x, y, z values (not as read) is taken three by three."""
+    points = np.array([[0, 0, 0], [3, 4, 0], [3, 5, 1.0]])
+    made = {}
+    for layout, shape in (("rows", points), ("flat", points.ravel())):
+        lanes = {"e_0": Lane("e_0", "e", 0, 3.2, "normal", frozenset(), shape, 0.0, 13.9),
+                 "f_0": Lane("f_0", "f", 0, 3.2, "normal", frozenset(), points[:2], 0.0, 13.9)}
+        made[layout] = LaneTable(Network(None, lanes, {}, [], {}, [], Location()))
+    for k in ("e_0", "f_0"):
+        assert np.array_equal(made["flat"].line(k), made["rows"].line(k)), k
+        assert made["flat"].length_m(k) == made["rows"].length_m(k) == (6.0 if k == "e_0" else 5.0)

@@ -20,6 +20,7 @@ import networks.safe_xml
 import networks.samples.sources
 import networks.shapes
 from networks.reader import DEFAULT_LANE_WIDTH_M, read_network, resolve_allowed
+from networks.samples.sources import SAMPLES_DIR
 from networks.shapes import parse_shape, parse_shapes
 from vehicles.errors import InputError
 
@@ -252,3 +253,12 @@ def test_reading_leaves_no_rows_for_the_collector(small_grid):
     # the rows only the state held are freed at once, not left to wait with them
     left = gc.collect()
     assert len(net.connections) > 300 and left < 100
+
+
+@pytest.mark.parametrize("first", ["incoming", "outgoing"])
+def test_connections_by_lane_whichever_index_is_made_first(first):
+    net = read_network(SAMPLES_DIR / "roundabout" / "roundabout.net.xml")
+    getattr(net, first)("no_such_lane")  # that index made first, the other when asked
+    for k in net.lanes:
+        assert net.outgoing(k) == [c for c in net.connections if c.from_lane == k], k
+        assert net.incoming(k) == [c for c in net.connections if c.to_lane == k], k
