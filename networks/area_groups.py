@@ -388,22 +388,22 @@ def _number(members: frozenset[str], ids: dict[frozenset[str], int], out: list) 
     n = ids.get(members)
     if n is None:
         n = ids[members] = len(out)
-        first = [m for m in members if m[0] in "LJ"]  # the order of _member_order
-        if first:
-            first.sort()
-            first.extend(sorted(m for m in members if m[0] not in "LJ"))
-            out.append(tuple(first))
-        else:
-            out.append(tuple(sorted(members)))
+        out.append(_in_order(members))
     return n
 
 
-def _member_order(key: str) -> tuple[bool, str]:
-    """Lanes and junction polygons first, then pieces; by key within each.
+def _in_order(members: frozenset[str]) -> tuple[str, ...]:
+    """Lanes and junction polygons first, then pieces; by key within each (plain string
+    sorts: most groups are pieces only).
 
     Examples
     --------
-    >>> sorted(["M:a>b", "ER:a", "L:x_0", "J:B"], key=_member_order)
-    ['J:B', 'L:x_0', 'ER:a', 'M:a>b']
+    >>> _in_order(frozenset(["M:a>b", "ER:a", "L:x_0", "J:B"]))
+    ('J:B', 'L:x_0', 'ER:a', 'M:a>b')
+    >>> _in_order(frozenset(["M:a>b", "ER:b", "ER:a"]))
+    ('ER:a', 'ER:b', 'M:a>b')
     """
-    return (key[0] not in "LJ", key)
+    first = sorted(m for m in members if m[0] in "LJ")
+    if not first:
+        return tuple(sorted(members))
+    return (*first, *sorted(m for m in members if m[0] not in "LJ"))
