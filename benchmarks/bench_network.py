@@ -9,7 +9,9 @@ is generated once into a cache directory outside the repository, then:
    the time is wall-clock until the network is ready, and the second process's peak memory
    is printed beside the first's;
 2. ``sumolib.net.readNet(..., withInternal=True)`` is timed once in its own process, for the
-   ratio;
+   ratio; the extraction is also given against it at the end (on these shared machines
+   sumolib's read of the grid took 19-33 s in different spells: the ratios tell how our
+   steps did whatever the machine's speed);
 3. in a fresh process (``--extract-repeat`` times, median): the network is read, every
    curve extracted (:func:`networks.curves.extract_curves`, which gives the curves their
    areas to be built on demand, :mod:`networks.area_book`), then the three areas
@@ -203,6 +205,7 @@ def main(argv: list[str] | None = None) -> int:
         f"{ours[0]['junctions']} junctions, {ours[0]['lanes']} lanes "
         f"[target {TARGET_READ_S:.0f} s: {verdict(read_s, TARGET_READ_S)}]"
     )
+    ref = None
     if not args.no_sumolib:
         ref = child("sumolib", path)
         print(
@@ -224,6 +227,12 @@ def main(argv: list[str] | None = None) -> int:
         f"{ext['curves_cpu_s']:.2f} + {ext['areas_cpu_s']:.2f}), median of {len(runs)} "
         f"[target {TARGET_EXTRACT_S:.0f} s: {verdict(total, TARGET_EXTRACT_S)}]"
     )
+    if ref is not None:  # how fast the machine ran: sumolib's read is the yardstick
+        print(
+            f"against sumolib's read in this run: reading {read_s / ref['read_s']:.2f}, "
+            f"extracting every curve with its areas {total / ref['read_s']:.2f} (sumolib's read "
+            f"as the measure of how fast the machine ran)"
+        )
     how = (
         f"part of each batch's curves by a worker process ({100 * ext['process_share']:.0f} %"
         f" at first, {100 * ext['last_share']:.0f} % at the end; {ext['sent_ahead']} batches'"
