@@ -2,10 +2,12 @@
 
 A SUMO network lists its edges (with their lanes) first, then its junctions (with their
 right-of-way ``<request>`` rows) and connections. A large plain ``.net.xml`` is cut at the
-first ``<junction`` or ``<tlLogic`` tag: this process parses the part before it (closed with
+first ``<edge``, ``<junction``, ``<tlLogic`` or ``<connection`` tag from halfway through the
+file on (:data:`SPLIT_FRACTION`): this process parses the part before it (closed with
 ``</net>``), and a second Python process (``python -m networks.read_split FILE OFFSET``)
-parses the part after it (opened with ``<net>``) with the same parser state and sends back
-what it read as JSON. The two are merged in document order.
+parses the part after it (opened with ``<net>``) with the same parser state, sends back what
+it read (pickled plain tuples, :func:`dump`) and leaves at once. The two are merged in
+document order.
 
 Both parts parsed without error prove the cut was at the top level: a tag found inside a
 comment, a CDATA section, a processing instruction or another element leaves one of the
@@ -251,7 +253,8 @@ def _connection_rows(columns: tuple) -> zip:
 
 
 def _child(path: str, offset: int) -> int:
-    """Parse ``path`` from ``offset`` (opened with ``<net>``) and print :func:`dump` as JSON."""
+    """Parse ``path`` from ``offset`` (opened with ``<net>``) and write :func:`dump` of it to
+    standard output; the exit status (2: the part could not be read)."""
     state = _ParseState(Path(path))
     parser = make_parser(state)
     try:
