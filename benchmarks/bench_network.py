@@ -93,7 +93,7 @@ elif what == "extract":
     from networks import area_worker
 
     running = area_worker._WORKER
-    out["sent_ahead"] = running[1]._sent if running is not None and running[1] else 0
+    out["sent_ahead"] = running[1].sent if running is not None and running[1] else 0
     out["curves_rss_mb"] = rss_mb()
     # build and check the three areas of EVERY curve, in curve order: each batch is built
     # when its first curve is read; the book keeps at most MAX_BATCHES batches at once

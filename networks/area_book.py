@@ -181,7 +181,6 @@ class AreaFeed:
         self.net = net
         self.batch_curves = BATCH_CURVES if batch_curves is None else batch_curves
         self.index: AreaIndex | None = None
-        self.sent = 0  # curves whose batches were sent (a prefix)
         self._ready: deque[tuple[int, int]] = deque()  # complete batches not sent yet
         self._start = 0  # where the batch being completed starts
         self._seen = 0  # curves looked at so far
@@ -216,7 +215,6 @@ class AreaFeed:
             if not send_ahead(self.index, tuple(curves[a:b])):
                 return
             self._ready.popleft()
-            self.sent = b
 
 
 def _batches(curves: Sequence[Curve], size: int) -> list[tuple[Curve, ...]]:

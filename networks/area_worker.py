@@ -126,6 +126,11 @@ class AreaWorker:
         self._jobs.put(data)
         return True
 
+    @property
+    def sent(self) -> int:
+        """Jobs sent so far."""
+        return self._sent
+
     def backlog(self) -> int:
         """Jobs sent that the worker has not answered yet (the one it is on included)."""
         return self._sent - self._arrived
@@ -296,7 +301,6 @@ class _Part(NamedTuple):
     cut: int  # the worker builds ``curves[cut:]``
     of: np.ndarray  # the roadway and paved group of each of those curves
     job: Job
-    share: float  # the share the cut was made at
     ahead: bool  # queued by a read in order: the worker's wait for it was ours
 
 
@@ -310,14 +314,13 @@ def _queue(
 ) -> bool:
     """Group the worker's part of a run of curves (from where :func:`share` cuts it),
     make its job and send it; False when it is not sent (no cut, or the worker failed)."""
-    at = share()
-    cut = areas._halfway(curves, 1.0 - at)
+    cut = areas._halfway(curves, 1.0 - share())
     if not cut:
         return False
     t0 = time.perf_counter()
     plan = BatchPlan(index)
     of = np.array([plan.add(c) for c in curves[cut:]], dtype=np.intp)
-    part = _Part(curves, cut, of, areas.make_job(plan, curves[cut:]), at, ahead)
+    part = _Part(curves, cut, of, areas.make_job(plan, curves[cut:]), ahead)
     if not helper.send(part.job):
         return False
     _BALANCE.measured("plan", time.perf_counter() - t0, len(curves) - cut)

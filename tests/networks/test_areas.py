@@ -289,7 +289,7 @@ def test_the_share_moves_towards_the_side_that_waited_less():
 
     def part(share: float, ahead: bool = True):
         curves = list(range(1000))
-        return area_worker._Part(curves, int(1000 * (1 - share)), None, None, share, ahead)
+        return area_worker._Part(curves, int(1000 * (1 - share)), None, None, ahead)
 
     balance = area_worker._Balance()
     assert balance.share == area_worker.PROCESS_SHARE
