@@ -1,31 +1,48 @@
 """``clearance check``: a CI gate on the clearance of design vehicles.
 
-Without ``--expect``: exit 0 when every curve is ``clear`` for every design vehicle (or has
-only verdicts given with ``--allow``), 1 when any is not (each listed with curve, vehicle,
-verdict and margin), 2 on bad input.
+Without ``--expect``: exit 0 when every run is ``clear``, waived (``--waivers``, see
+:mod:`reports.waivers`) or has a verdict given with ``--allow``; 1 when any is not (each
+listed with curve, vehicle, verdict and margin; an ``error`` run is never clear), 2 on bad
+input.
 
-With ``--expect GOLDEN.csv``: the verdicts are compared with a golden file of the verdicts
-the networks are meant to produce (columns ``network, vehicle, curve_id, verdict``): exit
-1 when any verdict is worse than its golden one, or a golden run is missing; better
-verdicts are reported (the golden file may be out of date) but pass. ``--write-golden``
-writes the current verdicts as a new golden file.
+With ``--expect GOLDEN.csv`` (:mod:`reports.golden`): the verdicts are compared with a
+golden file of the verdicts the networks are meant to produce. Exit 1 when any verdict is
+worse than its golden one (and not waived), an expected run is missing on a curve that is
+still there, the study has curves or runs the golden file does not know (*new*; allowed
+with ``--allow-new``) or the golden file has curves the study no longer finds (*gone*;
+allowed with ``--allow-gone``): in each case the gate no longer covers the network as the
+golden file says. Better verdicts are reported (the golden file may be out of date) but
+pass. ``--write-golden`` writes the current verdicts as a golden file instead and exits 0
+once it is written, whatever the verdicts.
+
+``--kind``, ``--junction`` and ``--bbox`` check only the curves of one scheme
+(:mod:`networks.selection`); with ``--expect``, only the golden rows of that selection are
+judged.
 """
 
 from __future__ import annotations
 
 import argparse
-import io
+import sys
 from pathlib import Path
 
 import pandas as pd
 
+from networks.selection import Selection
 from reports.atomic import write_text_atomic
-from reports.options import add_clearance_option, add_table_option
-from reports.study import METHODS, VERDICT_ORDER, run_study
+from reports.golden import compare, golden_text, read_golden, relevant
+from reports.options import (
+    add_clearance_option,
+    add_selection_options,
+    add_table_option,
+    add_waivers_option,
+    selection_of,
+)
+from reports.study import METHODS, VERDICT_ORDER, Study, run_study
+from reports.waivers import Waived, read_waivers, study_waivers
 from vehicles.errors import InputError
 from vehicles.table import load_tables
 
-GOLDEN_COLUMNS = ["network", "vehicle", "curve_id", "verdict"]
 ALLOWABLE = ("encroaches", "fails", "cannot-turn")
 
 
@@ -34,8 +51,9 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
         "check",
         help="CI gate: exit 1 when a design vehicle does not clear a curve",
         description="Exit 0 when every curve of the networks is clear for every design "
-                    "vehicle (or has only allowed verdicts), 1 when any is not, 2 on bad "
-                    "input. With --expect, compare with a golden file of verdicts instead.",
+                    "vehicle (or waived, or has only allowed verdicts), 1 when any is not, 2 "
+                    "on bad input, 3 on an internal or simulator error. With --expect, "
+                    "compare with a golden file of verdicts instead.",
     )
     p.add_argument("-n", "--net", action="append", metavar="NET", required=True,
                    help="SUMO network (repeatable)")
@@ -46,92 +64,105 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
                    help="a verdict that does not fail the gate (repeatable)")
     p.add_argument("--method", choices=METHODS, default="simulate")
     add_clearance_option(p)
-    p.add_argument("--expect", metavar="GOLDEN.csv",
-                   help="compare with this golden file of verdicts")
-    p.add_argument("--write-golden", metavar="GOLDEN.csv",
-                   help="write the verdicts found as a golden file")
+    add_selection_options(p)
+    add_waivers_option(p)
+    golden = p.add_mutually_exclusive_group()
+    golden.add_argument("--expect", metavar="GOLDEN.csv",
+                        help="compare with this golden file of verdicts")
+    golden.add_argument("--write-golden", metavar="GOLDEN.csv",
+                        help="write the verdicts found as a golden file (exit 0 once written)")
+    p.add_argument("--allow-new", action="store_true",
+                   help="with --expect: curves and runs the golden file does not know pass")
+    p.add_argument("--allow-gone", action="store_true",
+                   help="with --expect: golden curves the study no longer finds pass")
     p.set_defaults(run=run)
 
 
-def read_golden(path: Path) -> pd.DataFrame:
-    """A golden file; bad files raise :class:`InputError` naming the file and row."""
-    if not path.is_file():
-        raise InputError(f"{path}: no such golden file")
-    try:
-        frame = pd.read_csv(path, dtype=str, keep_default_na=False, comment="#")
-    except (pd.errors.ParserError, UnicodeDecodeError, pd.errors.EmptyDataError) as exc:
-        raise InputError(f"{path}: not a golden CSV file: {exc}") from None
-    missing = [c for c in GOLDEN_COLUMNS if c not in frame.columns]
-    if missing:
-        raise InputError(f"{path}: missing column(s) {', '.join(missing)}")
-    bad = frame[~frame.verdict.isin(list(VERDICT_ORDER))]
-    if len(bad):
-        row = bad.index[0] + 2
-        raise InputError(f"{path}:{row}: unknown verdict {bad.verdict.iloc[0]!r}")
-    dupes = frame.duplicated(["network", "vehicle", "curve_id"])
-    if dupes.any():
-        row = frame.index[dupes][0] + 2
-        raise InputError(f"{path}:{row}: the same network, vehicle and curve twice")
-    return frame[GOLDEN_COLUMNS]
+def _warn_unused(waived: Waived) -> None:
+    for w in waived.unused:
+        print(f"clearance check: warning: {w.where}: waiver matches no run "
+              f"(curve {w.curve_id!r}, vehicle {w.vehicle!r}, network {w.network!r})",
+              file=sys.stderr)
 
 
-def golden_text(frame: pd.DataFrame) -> str:
-    """The golden file of a study frame (margins kept for information)."""
-    out = io.StringIO()
-    out.write("# Verdicts the networks are designed to produce (clearance check --expect).\n")
-    out.write("# Regenerate with: clearance check ... --write-golden FILE\n")
-    cols = GOLDEN_COLUMNS + ["margin_m"]
-    frame[cols].assign(margin_m=frame.margin_m.round(2)).to_csv(
-        out, index=False, lineterminator="\n")
-    return out.getvalue()
+def _print_waived(frame: pd.DataFrame, waived: Waived) -> None:
+    for r in frame.itertuples():
+        key = (r.network, r.vehicle, r.curve_id)
+        if key in waived.by:
+            print(f"waived: {r.network}: {r.curve_id}: {r.vehicle}: {r.verdict} "
+                  f"({r.margin_m:+.2f} m): {waived.reasons[key]} ({waived.by[key].where})")
 
 
-def compare(found: pd.DataFrame, golden: pd.DataFrame) -> tuple[list[str], list[str]]:
-    """Regressions (and missing runs) and improvements of ``found`` against ``golden``."""
-    key = ["network", "vehicle", "curve_id"]
-    merged = golden.merge(found[key + ["verdict", "margin_m"]], on=key, how="left",
-                          suffixes=("_golden", ""))
-    worse, better = [], []
-    for r in merged.itertuples():
-        where = f"{r.network}: {r.curve_id}: {r.vehicle}"
-        if pd.isna(r.verdict):
-            worse.append(f"{where}: no such run any more (expected {r.verdict_golden})")
-            continue
-        now, then = VERDICT_ORDER[r.verdict], VERDICT_ORDER[r.verdict_golden]
-        if now < then:
-            worse.append(f"{where}: {r.verdict} ({r.margin_m:+.2f} m), expected "
-                         f"{r.verdict_golden}")
-        elif now > then:
-            better.append(f"{where}: {r.verdict} ({r.margin_m:+.2f} m), golden says "
-                          f"{r.verdict_golden}")
-    return worse, better
+def _expect(args: argparse.Namespace, golden: pd.DataFrame, study: Study,
+            frame: pd.DataFrame, waived: Waived, selection: Selection) -> int:
+    judged, not_judged = relevant(golden, study.table.names, [n.name for n in study.networks],
+                                  set(zip(frame.network, frame.curve_id, strict=True)),
+                                  selection)
+    cmp = compare(frame, judged, waived.reasons)
+    for line in cmp.better:
+        print(f"better than expected: {line}")
+    for line in cmp.worse_waived:
+        print(f"worse than expected, waived: {line}")
+    for line in cmp.worse:
+        print(f"WORSE than expected: {line}")
+    new_tag = "new (allowed)" if args.allow_new else "NEW"
+    for line in cmp.new_curves:
+        print(f"{new_tag} curve, not in the golden file: {line}")
+    for line in cmp.new_runs:
+        print(f"{new_tag} run, not in the golden file: {line}")
+    gone_tag = "gone (allowed)" if args.allow_gone else "GONE"
+    for line in cmp.gone_curves:
+        print(f"{gone_tag} curve, in the golden file but not found: {line}")
+    print(f"{cmp.expected} expected verdicts: {len(cmp.worse)} worse, "
+          f"{len(cmp.worse_waived)} worse but waived, {len(cmp.better)} better, "
+          f"{cmp.as_expected} as expected; {len(cmp.new_curves)} new curves, "
+          f"{len(cmp.new_runs)} new runs, {len(cmp.gone_curves)} gone curves")
+    if not_judged:
+        print(f"{not_judged} golden verdicts not judged: their curves are not found and "
+              f"may lie outside the selection ({selection.describe()})")
+    failed = bool(cmp.worse)
+    failed |= bool(cmp.new_curves or cmp.new_runs) and not args.allow_new
+    failed |= bool(cmp.gone_curves) and not args.allow_gone
+    return 1 if failed else 0
 
 
 def run(args: argparse.Namespace) -> int:
+    if (args.allow_new or args.allow_gone) and not args.expect:
+        raise InputError("--allow-new and --allow-gone go with --expect GOLDEN.csv")
     table = load_tables(args.table, args.design_vehicle)
+    selection = selection_of(args)
     golden = read_golden(Path(args.expect)) if args.expect else None
-    study = run_study(args.net, table, args.method, args.clearance)
+    waivers = (read_waivers(Path(args.waivers), load_tables(args.table).names)
+               if args.waivers else [])
+    study = run_study(args.net, table, args.method, args.clearance, selection=selection)
     frame = study.frame()
+    if not selection.is_empty:
+        print(f"selection: {selection.describe()}: "
+              f"{sum(len(n.curves) for n in study.networks)} curves")
     if args.write_golden:
         write_text_atomic(args.write_golden, golden_text(frame))
         print(f"wrote {args.write_golden} ({len(frame)} verdicts)")
+        return 0
+    waived = study_waivers(frame, waivers)
+    _warn_unused(waived)
+    _print_waived(frame, waived)
     if golden is not None:
-        golden = golden[golden.vehicle.isin(table.names)
-                        & golden.network.isin([n.name for n in study.networks])]
-        worse, better = compare(frame, golden)
-        for line in better:
-            print(f"better than expected: {line}")
-        for line in worse:
-            print(f"WORSE than expected: {line}")
-        print(f"{len(golden)} expected verdicts: {len(worse)} worse, {len(better)} better, "
-              f"{len(golden) - len(worse) - len(better)} as expected")
-        return 1 if worse else 0
+        return _expect(args, golden, study, frame, waived, selection)
     allowed = {"clear", *args.allow}
     failing = frame[~frame.verdict.isin(allowed)]
+    unwaived = [(n, v, c) not in waived.by for n, v, c in
+                zip(failing.network, failing.vehicle, failing.curve_id, strict=True)]
+    failing = failing[pd.Series(unwaived, index=failing.index, dtype=bool)]
     failing = failing.assign(_o=failing.verdict.map(VERDICT_ORDER)).sort_values(
         ["_o", "margin_m", "network", "curve_id", "vehicle"], kind="stable")
     for r in failing.itertuples():
-        print(f"{r.network}: {r.curve_id}: {r.vehicle}: {r.verdict} ({r.margin_m:+.2f} m)")
-    print(f"{len(frame)} runs, {len(failing)} not allowed "
+        key = (r.network, r.vehicle, r.curve_id)
+        note = ""
+        if key in waived.too_bad:
+            w = waived.too_bad[key]
+            note = f" (worse than {w.where} accepts: {w.verdict})"
+        print(f"{r.network}: {r.curve_id}: {r.vehicle}: {r.verdict} ({r.margin_m:+.2f} m)"
+              f"{note}")
+    print(f"{len(frame)} runs, {len(waived)} waived, {len(failing)} not allowed "
           f"(allowed: {', '.join(sorted(allowed))})")
     return 1 if len(failing) else 0

@@ -4,6 +4,9 @@ from __future__ import annotations
 
 import argparse
 
+from networks.curves import KINDS
+from networks.selection import Selection, parse_bbox
+
 
 def add_table_option(p: argparse.ArgumentParser) -> None:
     """``-t/--table TABLE.csv`` (repeatable; default: every bundled table)."""
@@ -26,3 +29,30 @@ def add_clearance_option(p: argparse.ArgumentParser) -> None:
     """``--clearance M``: the offset the swept envelope is grown by (default 0 m)."""
     p.add_argument("--clearance", type=float, default=0.0, metavar="M",
                    help="clearance offset the swept envelope is grown by (m, default 0)")
+
+
+def add_selection_options(p: argparse.ArgumentParser) -> None:
+    """``--kind KIND``, ``--junction ID`` (both repeatable) and ``--bbox XMIN,YMIN,XMAX,YMAX``:
+    only the curves of one scheme (see :mod:`networks.selection`)."""
+    p.add_argument("--kind", action="append", choices=KINDS, metavar="KIND",
+                   help=f"only curves of this kind (repeatable; one of {', '.join(KINDS)}; "
+                        "default: every kind a study extracts)")
+    p.add_argument("--junction", action="append", metavar="ID",
+                   help="only curves whose junction is ID (repeatable)")
+    p.add_argument("--bbox", metavar="XMIN,YMIN,XMAX,YMAX",
+                   help="only curves whose feature meets this box (network coordinates, m)")
+
+
+def selection_of(args: argparse.Namespace) -> Selection:
+    """The :class:`~networks.selection.Selection` of :func:`add_selection_options`' options
+    (bad values raise :class:`~vehicles.errors.InputError`)."""
+    return Selection(kinds=tuple(dict.fromkeys(args.kind or ())),
+                     junctions=tuple(dict.fromkeys(args.junction or ())),
+                     bbox=parse_bbox(args.bbox) if args.bbox is not None else None)
+
+
+def add_waivers_option(p: argparse.ArgumentParser) -> None:
+    """``--waivers FILE``: accepted verdicts (see :mod:`reports.waivers`)."""
+    p.add_argument("--waivers", metavar="WAIVERS.csv",
+                   help="CSV of accepted verdicts: curve_id (or glob), vehicle (or *), "
+                        "verdict, reason; waived runs are shown as such and pass check")

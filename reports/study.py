@@ -27,8 +27,9 @@ from pathlib import Path
 import pandas as pd
 from shapely.geometry.base import BaseGeometry
 
-from networks.curves import Curve, CurveOptions, extract_curves
+from networks.curves import Curve, CurveOptions
 from networks.reader import Network, read_network
+from networks.selection import Selection, check_junctions, load_selected
 from reports.analytic import run_analytic
 from vehicles.errors import InputError
 from vehicles.table import VehicleTable
@@ -122,14 +123,17 @@ def network_name(path: Path, taken: Iterable[str] = ()) -> str:
     return name
 
 
-def load_networks(paths: Sequence[str | Path], longest_m: float) -> list[NetworkCurves]:
-    """Read each network and extract its curves, approaches long enough for ``longest_m``."""
+def load_networks(paths: Sequence[str | Path], longest_m: float,
+                  selection: Selection | None = None) -> list[NetworkCurves]:
+    """Read each network and extract its curves, approaches long enough for ``longest_m``
+    (only those of ``selection``, see :mod:`networks.selection`)."""
     out: list[NetworkCurves] = []
     opts = CurveOptions(approach_length_m=max(25.0, longest_m + 5.0))
-    for p in paths:
-        path = Path(p)
-        net = read_network(path)
-        curves = extract_curves(net, options=opts, build_ahead=True)
+    nets = [(Path(p), read_network(p)) for p in paths]
+    if selection is not None and selection.junctions:
+        check_junctions(selection.junctions, [net for _, net in nets])
+    for path, net in nets:
+        curves = load_selected(net, selection, opts, build_ahead=True)
         name = network_name(path, [n.name for n in out])
         if not curves:
             log.warning("%s: no curves found", path)
@@ -176,8 +180,9 @@ def run_study(
     method: str = "simulate",
     clearance_m: float = 0.0,
     fcd_dir: Path | None = None,
+    selection: Selection | None = None,
 ) -> Study:
-    """Every vehicle of ``table`` through every curve of every network.
+    """Every vehicle of ``table`` through every curve of every network (of ``selection``).
 
     Raises
     ------
@@ -190,7 +195,7 @@ def run_study(
         raise InputError(f"--clearance must be a distance >= 0 m, not {clearance_m}")
     vehicles = table.vehicles()
     longest = max(v.overall_length_m for v in vehicles)
-    nets = load_networks(network_paths, longest)
+    nets = load_networks(network_paths, longest, selection)
     total = sum(len(n.curves) for n in nets) * len(vehicles)
     update = progress_bar(total, f"{method} {len(vehicles)} vehicles")
     records: list[RunRecord] = []
