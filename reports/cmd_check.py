@@ -95,9 +95,10 @@ def _print_waived(frame: pd.DataFrame, waived: Waived) -> None:
 
 def _expect(args: argparse.Namespace, golden: pd.DataFrame, study: Study,
             frame: pd.DataFrame, waived: Waived, selection: Selection) -> int:
-    judged, not_judged = relevant(golden, study.table.names, [n.name for n in study.networks],
-                                  set(zip(frame.network, frame.curve_id, strict=True)),
-                                  selection)
+    found_curves = set(zip(frame.network, frame.curve_id, strict=True))
+    judged, outside, not_judged = relevant(golden, study.table.names,
+                                           [n.name for n in study.networks], found_curves,
+                                           selection)
     cmp = compare(frame, judged, waived.reasons)
     for line in cmp.better:
         print(f"better than expected: {line}")
@@ -117,6 +118,8 @@ def _expect(args: argparse.Namespace, golden: pd.DataFrame, study: Study,
           f"{len(cmp.worse_waived)} worse but waived, {len(cmp.better)} better, "
           f"{cmp.as_expected} as expected; {len(cmp.new_curves)} new curves, "
           f"{len(cmp.new_runs)} new runs, {len(cmp.gone_curves)} gone curves")
+    if outside:
+        print(f"{outside} golden verdicts outside the selection ({selection.describe()})")
     if not_judged:
         print(f"{not_judged} golden verdicts not judged: their curves are not found and "
               f"may lie outside the selection ({selection.describe()})")

@@ -20,9 +20,17 @@ from networks.samples.build import SAMPLES, SAMPLES_DIR
 from reports.atomic import write_text_atomic
 from reports.document import build_sections, html_document, markdown
 from reports.exports import EnvelopeRecord
-from reports.options import add_clearance_option, add_table_option, add_vehicle_option
+from reports.options import (
+    add_clearance_option,
+    add_selection_options,
+    add_table_option,
+    add_vehicle_option,
+    add_waivers_option,
+    selection_of,
+)
 from reports.study import METHODS, Study, run_study
 from reports.tables import clearance_csv, summary_json
+from reports.waivers import Waived, read_waivers, study_waivers
 from vehicles.errors import InputError
 from vehicles.table import bundled_table_paths, load_tables
 
@@ -61,6 +69,8 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
                    help="units of lengths shown in the report documents")
     p.add_argument("--fcd", action="store_true",
                    help="also write SUMO FCD output (replay with sumo-gui), simulate only")
+    add_selection_options(p)
+    add_waivers_option(p)
     p.set_defaults(run=run)
 
 
@@ -71,13 +81,15 @@ def envelope_records(study: Study) -> list[EnvelopeRecord]:
             if r.verdict != "error" and r.envelope is not None and not r.envelope.is_empty]
 
 
-def write_report(study: Study, folder: Path, tables: list[Path], units: str = "m") -> None:
-    """Write every output of ``study`` into ``folder`` (which must be new or empty)."""
+def write_report(study: Study, folder: Path, tables: list[Path], units: str = "m",
+                 waived: Waived | None = None) -> None:
+    """Write every output of ``study`` into ``folder`` (which must be new or empty);
+    ``waived`` runs are shown as such (:mod:`reports.waivers`)."""
     from reports.exports import write_dxf, write_geojson, write_sumo_additional
 
-    write_text_atomic(folder / "clearance.csv", clearance_csv(study))
-    write_text_atomic(folder / "summary.json", summary_json(study, tables))
-    sections = build_sections(study, folder, units)
+    write_text_atomic(folder / "clearance.csv", clearance_csv(study, waived))
+    write_text_atomic(folder / "summary.json", summary_json(study, tables, waived))
+    sections = build_sections(study, folder, units, waived)
     write_text_atomic(folder / "report.md", markdown(study, sections, folder, units))
     write_text_atomic(folder / "report.html", html_document(study, sections, units))
     records = envelope_records(study)
@@ -105,13 +117,20 @@ def run(args: argparse.Namespace) -> int:
     nets = [Path(n) for n in args.net] if args.net else sample_networks()
     tables = [Path(t) for t in args.table] if args.table else bundled_table_paths()
     table = load_tables(tables, args.vehicle)
+    selection = selection_of(args)
+    waivers = None
+    if args.waivers:  # a waiver may name any vehicle of the tables, not only those run
+        names = load_tables(tables).names if args.vehicle else table.names
+        waivers = read_waivers(Path(args.waivers), names)
     target = Path(args.output) if args.output else DEFAULT_OUTPUT
     target.parent.mkdir(parents=True, exist_ok=True)
     tmp = Path(tempfile.mkdtemp(prefix=f".{target.name}.new-", dir=target.parent))
     try:
         fcd = tmp / "fcd" if args.fcd else None
-        study = run_study(nets, table, args.method, args.clearance, fcd_dir=fcd)
-        write_report(study, tmp, tables, args.units)
+        study = run_study(nets, table, args.method, args.clearance, fcd_dir=fcd,
+                          selection=selection)
+        waived = study_waivers(study.frame(), waivers) if waivers is not None else None
+        write_report(study, tmp, tables, args.units, waived)
         swap_in(tmp, target)
     except BaseException:
         shutil.rmtree(tmp, ignore_errors=True)
@@ -123,5 +142,10 @@ def run(args: argparse.Namespace) -> int:
           f"in {time.perf_counter() - t0:.1f} s")
     print("  " + ", ".join(f"{v}: {int(counts.get(v, 0))}"
                            for v in ("cannot-turn", "fails", "encroaches", "clear")))
+    if waived is not None:
+        print(f"  waived: {len(waived)} runs")
+        for w in waived.unused:
+            log.warning("%s: waiver matches no run (curve %r, vehicle %r, network %r)",
+                        w.where, w.curve_id, w.vehicle, w.network)
     print(f"report: {target / 'report.html'}")
     return 0

@@ -20,6 +20,7 @@ import pandas as pd
 from reports.figures import COLOURS, figure_name, plot_curve, plot_network, worst_by_curve
 from reports.study import VERDICT_ORDER, Study
 from reports.units import length_scale
+from reports.waivers import Waived
 
 #: A curve is *tight* when its smallest margin is below this (m) though clear.
 TIGHT_M = 0.25
@@ -44,12 +45,16 @@ class Section:
     all_clear: int
     curve_figures: list[tuple[str, Path, str]] = field(default_factory=list)
     omitted: int = 0
+    #: Waived runs: curve id, vehicle, verdict, margin (m), reason, waiver's file:line.
+    waived: list[tuple[str, str, str, float, str, str]] = field(default_factory=list)
 
 
-def build_sections(study: Study, folder: Path, units: str = "m") -> list[Section]:
+def build_sections(study: Study, folder: Path, units: str = "m",
+                   waived: Waived | None = None) -> list[Section]:
     """Draw every figure under ``folder/figures`` and collect what the documents show.
 
-    Margins shown in the matrix and captions are in ``units``.
+    Margins shown in the matrix and captions are in ``units``. With ``waived``, each
+    section counts and lists its waived runs, and their matrix cells are marked.
     """
     scale = length_scale(units)
     figs = folder / "figures"
@@ -63,6 +68,11 @@ def build_sections(study: Study, folder: Path, units: str = "m") -> list[Section
                                                                    key=VERDICT_ORDER.get)
                   if v != "error" or (f.verdict == "error").any()}
         cells = f.assign(cell=f.verdict + "|" + (f.margin_m / scale).round(2).astype(str))
+        if waived is not None:
+            keys = list(zip(f.network, f.vehicle, f.curve_id, strict=True))
+            marks = ["|w" if k in waived.by else "" for k in keys]
+            cells = cells.assign(cell=cells.cell + pd.Series(marks, index=f.index, dtype=str))
+            counts["waived"] = sum(1 for k in keys if k in waived.by)
         matrix = cells.pivot(index="curve_id", columns="vehicle", values="cell")
         matrix = matrix[list(dict.fromkeys(f.vehicle))]
         bad = set(worst.curve_id[(worst.verdict != "clear") | (worst.margin_m < TIGHT_M)])
@@ -70,6 +80,12 @@ def build_sections(study: Study, folder: Path, units: str = "m") -> list[Section
         matrix = matrix.loc[[c for c in worst.curve_id if c in bad]]
         section = Section(nc.name, counts, plan, worst, matrix,
                           len(worst) - len(bad))
+        if waived is not None:
+            section.waived = [
+                (r.curve_id, r.vehicle, r.verdict, float(r.margin_m),
+                 waived.reasons[k], waived.by[k].where)
+                for r in f.itertuples()
+                if (k := (r.network, r.vehicle, r.curve_id)) in waived.by]
         picked = [c for c in worst.curve_id if c in bad][:MAX_CURVE_FIGURES]
         section.omitted = len(curve_order) - len(picked)
         by_id = {c.curve_id: c for c in nc.curves}
@@ -114,6 +130,19 @@ def _cell_margin(text: str) -> str:
     return f"{value:+.2f}" if math.isfinite(value) else "n/a"
 
 
+def _md_cell(text: str) -> str:
+    r"""Text for a Markdown table cell (``|`` escaped, runs of white space as one space).
+
+    Examples
+    --------
+    >>> print(_md_cell("a|b \n c"))
+    a\|b c
+    >>> _md_cell("")
+    ''
+    """
+    return " ".join(text.split()).replace("|", "\\|")
+
+
 def _rel(path: Path, folder: Path) -> str:
     return path.relative_to(folder).as_posix()
 
@@ -156,10 +185,19 @@ def markdown(study: Study, sections: list[Section], folder: Path, units: str = "
                     if not isinstance(c, str):  # no run of this vehicle on this curve
                         cells.append("–")
                         continue
-                    verdict, margin = c.split("|")
-                    cells.append(f"{SYMBOL[verdict]} {_cell_margin(margin)}")
+                    verdict, margin, *w = c.split("|")
+                    cells.append(f"{SYMBOL[verdict]} {_cell_margin(margin)}"
+                                 + (" (waived)" if w else ""))
                 lines.append(f"| `{cid}` | " + " | ".join(cells) + " |")
         lines.append("")
+        if s.waived:
+            lines += [f"### Waived runs ({len(s.waived)})", "",
+                      "| curve | vehicle | verdict | margin | reason | waiver |",
+                      "|---|---|---|---|---|---|"]
+            lines += [f"| `{cid}` | {v} | {verdict} | {_fmt_margin(m, units)} | "
+                      f"{_md_cell(reason)} | {_md_cell(where)} |"
+                      for cid, v, verdict, m, reason, where in s.waived]
+            lines.append("")
         for cid, png, caption in s.curve_figures:
             lines += [f"### `{cid}`", "", f"![{cid}]({_rel(png, folder)})", "",
                       caption, ""]
@@ -234,12 +272,22 @@ def html_document(study: Study, sections: list[Section], units: str = "m") -> st
                     if not isinstance(c, str):
                         cells.append("<td>–</td>")
                         continue
-                    verdict, margin = c.split("|")
+                    verdict, margin, *w = c.split("|")
                     colour = COLOURS[verdict]
-                    cells.append(f'<td style="background:{colour}33" title="{e(verdict)}">'
-                                 f"{SYMBOL[verdict]} {_cell_margin(margin)}</td>")
+                    tip = f"{verdict}, waived" if w else verdict
+                    cells.append(f'<td style="background:{colour}33" title="{e(tip)}">'
+                                 f"{SYMBOL[verdict]} {_cell_margin(margin)}"
+                                 f"{' (waived)' if w else ''}</td>")
                 out.append(f'<tr><td class="id">{e(str(cid))}</td>{"".join(cells)}</tr>')
             out.append("</table></div>")
+        if s.waived:
+            out.append(f"<h3>Waived runs ({len(s.waived)})</h3><table><tr><th>curve</th>"
+                       "<th>vehicle</th><th>verdict</th><th>margin</th><th>reason</th>"
+                       "<th>waiver</th></tr>")
+            out += [f'<tr><td class="id">{e(cid)}</td><td>{e(v)}</td><td>{e(verdict)}</td>'
+                    f"<td>{_fmt_margin(m, units)}</td><td>{e(reason)}</td><td>{e(where)}</td>"
+                    "</tr>" for cid, v, verdict, m, reason, where in s.waived]
+            out.append("</table>")
         for cid, png, caption in s.curve_figures:
             out.append(f"<h3><code>{e(cid)}</code></h3><figure>{_img(png, cid)}"
                        f"<figcaption>{e(caption)}</figcaption></figure>")

@@ -107,7 +107,6 @@ class Comparison:
     new_curves: list[str] = field(default_factory=list)
     new_runs: list[str] = field(default_factory=list)
     gone_curves: list[str] = field(default_factory=list)
-    not_judged: int = 0  # golden runs of curves outside the selection (see relevant)
 
     @property
     def as_expected(self) -> int:
@@ -116,16 +115,33 @@ class Comparison:
 
 def relevant(golden: pd.DataFrame, vehicles: Iterable[str], networks: Iterable[str],
              found_curves: set[tuple[str, str]],
-             selection: Selection | None = None) -> tuple[pd.DataFrame, int]:
-    """The golden rows a study can judge, and how many rows of its vehicles and networks
-    could not be judged.
+             selection: Selection | None = None) -> tuple[pd.DataFrame, int, int]:
+    """The golden rows a study can judge; how many rows of its vehicles and networks lie
+    outside its selection; how many could not be judged.
 
     A row is judged when its vehicle and network are in the study and its curve is either
-    found or, when not found, would have been selected: its kind is one the study
-    extracted and it passes the selection's junctions (by the file's ``junction`` column).
-    With a bounding box, or a junction selection and a file without junctions, a curve
-    that is not found cannot be told apart from one outside the selection: its rows are
-    counted as not judged instead of gone.
+    found or, when not found, would have been selected (it is then *gone*). A curve not
+    found is outside the selection when its kind is not one the study extracted, or the
+    selection has junctions and the file's ``junction`` column names another. With a
+    bounding box, or a junction selection and a file without junctions, a curve that is
+    not found and not known to be outside cannot be told apart from one outside the
+    selection: its rows are not judged (counted, not gone).
+
+    Examples
+    --------
+    >>> g = pd.DataFrame({"network": ["n"] * 3, "vehicle": ["P"] * 3,
+    ...                   "curve_id": ["turn:J1:a", "turn:J2:b", "ramp:c"],
+    ...                   "verdict": ["clear"] * 3, "kind": ["turn", "turn", "ramp"],
+    ...                   "junction": ["J1", "J2", "J3"]})
+    >>> judged, outside, unknown = relevant(g, ["P"], ["n"], {("n", "turn:J1:a")},
+    ...                                     Selection(kinds=("turn",), junctions=("J1",)))
+    >>> list(judged.curve_id), outside, unknown
+    (['turn:J1:a'], 2, 0)
+    >>> judged, outside, unknown = relevant(g, ["P"], ["n"], set(), Selection(kinds=("turn",)))
+    >>> list(judged.curve_id), outside, unknown
+    (['turn:J1:a', 'turn:J2:b'], 1, 0)
+    >>> relevant(g, ["P"], ["n"], set(), Selection(bbox=(0, 0, 1, 1)))[1:]
+    (0, 3)
     """
     vehicles, networks = set(vehicles), set(networks)
     g = golden[golden.vehicle.isin(vehicles) & golden.network.isin(networks)]
@@ -133,13 +149,16 @@ def relevant(golden: pd.DataFrame, vehicles: Iterable[str], networks: Iterable[s
                                                               strict=True)],
                       index=g.index, dtype=bool)
     selection = selection or Selection()
-    could = g.kind.isin(selection.effective_kinds())
+    outside = ~g.kind.isin(selection.effective_kinds())
+    undecidable = pd.Series(selection.bbox is not None, index=g.index, dtype=bool)
     if selection.junctions:
-        could &= g.junction.isin(selection.junctions)
-    if selection.bbox is not None:
-        could &= False
-    keep = found | could
-    return g[keep], int((~keep).sum())
+        named = g.junction != ""
+        outside |= named & ~g.junction.isin(selection.junctions)
+        undecidable |= ~named
+    outside &= ~found
+    unknown = ~found & ~outside & undecidable
+    keep = ~outside & ~unknown
+    return g[keep], int(outside.sum()), int(unknown.sum())
 
 
 def compare(found: pd.DataFrame, golden: pd.DataFrame,

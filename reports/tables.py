@@ -14,17 +14,29 @@ from pathlib import Path
 import pandas as pd
 
 from reports.study import VERDICT_ORDER, Study
+from reports.waivers import Waived
 
 VERDICTS = tuple(sorted(VERDICT_ORDER, key=VERDICT_ORDER.get))  # worst first
 
 
-def clearance_csv(study: Study) -> str:
-    """``clearance.csv``: one row per network × vehicle × curve, lengths rounded to mm."""
+def clearance_csv(study: Study, waived: Waived | None = None) -> str:
+    """``clearance.csv``: one row per network × vehicle × curve, lengths rounded to mm.
+
+    With ``waived`` (a report given ``--waivers``) a last column ``waived`` holds each
+    waived run's reason (empty for the others)."""
     frame = study.frame()
+    if waived is not None:
+        frame["waived"] = waived_column(frame, waived)
     for col in frame.columns:
         if frame[col].dtype.kind == "f":
             frame[col] = frame[col].round(3)
     return frame.to_csv(index=False, lineterminator="\n", na_rep="")
+
+
+def waived_column(frame: pd.DataFrame, waived: Waived) -> list[str]:
+    """Each row's waiver reason, empty where the run is not waived."""
+    return [waived.reasons.get(k, "") for k in zip(frame.network, frame.vehicle,
+                                                   frame.curve_id, strict=True)]
 
 
 def sha256_of(path: Path) -> str:
@@ -52,12 +64,13 @@ def counts(frame: pd.DataFrame, by: str) -> dict[str, dict[str, int]]:
     return out
 
 
-def summary(study: Study, vehicle_tables: list[Path]) -> dict[str, object]:
-    """The ``summary.json`` content."""
+def summary(study: Study, vehicle_tables: list[Path],
+            waived: Waived | None = None) -> dict[str, object]:
+    """The ``summary.json`` content (with ``waived`` counts when given waivers)."""
     frame = study.frame()
     worst = frame.assign(_o=frame.verdict.map(VERDICT_ORDER)).sort_values(
         ["_o", "margin_m", "network", "curve_id", "vehicle"], kind="stable")
-    return {
+    out: dict[str, object] = {
         "method": study.method,
         "clearance_m": study.clearance_m,
         "runs": len(frame),
@@ -79,8 +92,22 @@ def summary(study: Study, vehicle_tables: list[Path]) -> dict[str, object]:
         "versions": {"clearance": _version("sumo-clearance"),
                      "sumo": _version("eclipse-sumo"), "libsumo": _version("libsumo")},
     }
+    if waived is not None:
+        is_waived = [bool(r) for r in waived_column(frame, waived)]
+        w = frame[pd.Series(is_waived, index=frame.index, dtype=bool)]
+        out["waived"] = {
+            "runs": len(w),
+            "verdicts": {v: int((w.verdict == v).sum()) for v in VERDICTS},
+            "by_vehicle": {str(k): int(n) for k, n in w.vehicle.value_counts().items()},
+            "not_clear_and_not_waived": int(((frame.verdict != "clear")
+                                             & ~frame.index.isin(w.index)).sum()),
+            "unused_waivers": [x.where for x in waived.unused],
+        }
+    return out
 
 
-def summary_json(study: Study, vehicle_tables: list[Path]) -> str:
+def summary_json(study: Study, vehicle_tables: list[Path],
+                 waived: Waived | None = None) -> str:
     """``summary.json`` as text (sorted keys, two-space indent, trailing newline)."""
-    return json.dumps(summary(study, vehicle_tables), indent=2, sort_keys=True) + "\n"
+    return json.dumps(summary(study, vehicle_tables, waived), indent=2,
+                      sort_keys=True) + "\n"

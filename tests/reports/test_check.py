@@ -6,8 +6,8 @@ import sys
 import pytest
 
 from reports.cli import main
-from reports.golden import compare, read_golden
 from reports.cmd_report import sample_networks
+from reports.golden import compare, read_golden
 
 NETS = {p.stem.split(".")[0]: str(p) for p in sample_networks()}
 
