@@ -107,10 +107,13 @@ class Comparison:
     new_curves: list[str] = field(default_factory=list)
     new_runs: list[str] = field(default_factory=list)
     gone_curves: list[str] = field(default_factory=list)
+    gone_runs: int = 0  # the golden runs of the gone curves
 
     @property
     def as_expected(self) -> int:
-        return self.expected - len(self.worse) - len(self.worse_waived) - len(self.better)
+        """Expected runs found with their golden verdict."""
+        return (self.expected - len(self.worse) - len(self.worse_waived) - len(self.better)
+                - self.gone_runs)
 
 
 def relevant(golden: pd.DataFrame, vehicles: Iterable[str], networks: Iterable[str],
@@ -200,6 +203,7 @@ def compare(found: pd.DataFrame, golden: pd.DataFrame,
             out.better.append(f"{where}: {r.verdict} ({r.margin_m:+.2f} m), golden says "
                               f"{r.verdict_golden}")
     for (net, cid), runs in gone.items():
+        out.gone_runs += len(runs)
         out.gone_curves.append(f"{net}: {cid} (expected {', '.join(runs)})")
     known = set(zip(golden.network, golden.vehicle, golden.curve_id, strict=True))
     new: dict[tuple[str, str], list[str]] = {}

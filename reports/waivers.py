@@ -6,7 +6,8 @@ header, see :mod:`reports.csv_rows`) with the columns
 ``curve_id``
     A curve id, or a glob of ids (:func:`fnmatch.fnmatchcase`: ``*``, ``?``, ``[...]``).
     An id is matched literally first, so an id holding ``*`` or ``[`` still matches
-    itself.
+    itself (and, as a glob, ids like it: ``a77[0]_0`` also matches ``a770_0``; write
+    ``a77[[]0]_0`` to match the bracket only).
 ``vehicle``
     A vehicle name from the vehicle tables, or ``*`` for every vehicle.
 ``verdict``
