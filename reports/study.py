@@ -138,6 +138,9 @@ def load_networks(paths: Sequence[str | Path], longest_m: float,
         if not curves:
             log.warning("%s: no curves found", path)
         out.append(NetworkCurves(name, path, net, curves))
+    if selection is not None and not selection.is_empty and not any(n.curves for n in out):
+        raise InputError(f"no curve of {', '.join(str(n.path) for n in out)} passes the "
+                         f"selection ({selection.describe()})")
     return out
 
 

@@ -1,12 +1,15 @@
 """`clearance check`: exit 0 when clear, 1 when not, 2 on bad input; the golden gate."""
 
+import csv
 import subprocess
 import sys
+from pathlib import Path
 
 import pytest
 
 from reports.cli import main
 from reports.cmd_report import sample_networks
+from reports.csv_rows import csv_line
 from reports.golden import compare, read_golden
 
 NETS = {p.stem.split(".")[0]: str(p) for p in sample_networks()}
@@ -83,3 +86,143 @@ def test_compare_orders_verdicts():
     assert len(result.worse) == 1 and "a: fails" in result.worse[0]
     assert len(result.better) == 1 and "b: clear" in result.better[0]
     assert result.as_expected == 0 and not result.new_curves and not result.gone_curves
+
+
+RAMP_P = ["check", "-n", NETS["parking_ramp"], "--design-vehicle", "P"]
+
+
+def test_new_and_gone_curves_fail_the_gate_unless_allowed(tmp_path, capsys):
+    golden = tmp_path / "golden.csv"
+    args = RAMP_P + ["--method", "analytic"]
+    assert main(args + ["--write-golden", str(golden)]) == 0
+    lines = golden.read_text().splitlines()
+    dropped = next(x for x in lines if "turn:H0:approach_0->helix_0" in x)
+    lines.remove(dropped)
+    lines.append("parking_ramp,P,turn:H9:old#1_0->gone_0,clear,turn,H9,0.50")
+    golden.write_text("\n".join(lines) + "\n")
+    capsys.readouterr()
+    assert main(args + ["--expect", str(golden)]) == 1
+    out = capsys.readouterr().out
+    assert ("NEW curve, not in the golden file: parking_ramp: turn:H0:approach_0->helix_0 "
+            "(P ") in out
+    assert ("GONE curve, in the golden file but not found: parking_ramp: "
+            "turn:H9:old#1_0->gone_0 (expected P clear)") in out
+    assert "1 new curves, 0 new runs, 1 gone curves" in out
+    assert main(args + ["--expect", str(golden), "--allow-new"]) == 1  # still gone
+    assert main(args + ["--expect", str(golden), "--allow-gone"]) == 1  # still new
+    capsys.readouterr()
+    assert main(args + ["--expect", str(golden), "--allow-new", "--allow-gone"]) == 0
+    out = capsys.readouterr().out
+    assert "new (allowed) curve" in out and "gone (allowed) curve" in out
+    # a vehicle the golden file does not know: each of its runs is new
+    assert main(args + ["--design-vehicle", "2008 Chrysler Town & Country", "--expect",
+                        str(golden), "--allow-gone"]) == 1
+    assert "NEW run, not in the golden file: parking_ramp: ramp:helix_0->helix_0: 2008" in (
+        capsys.readouterr().out)
+    assert main(args + ["--allow-new"]) == 2  # only with --expect
+
+
+def test_waivers_pass_the_gate_and_are_listed(tmp_path, capsys):
+    # P fails on all three curves of the parking ramp (simulate)
+    w = tmp_path / "w.csv"
+    w.write_text("curve_id,vehicle,verdict,reason\n"
+                 "turn:H*,P,fails,the helix turns are tight by design\n"
+                 "ramp:helix_0->helix_0,*,encroaches,only encroaching is accepted\n"
+                 "bend:*,*,fails,matches nothing\n")
+    assert main(RAMP_P + ["--waivers", str(w)]) == 1
+    captured = capsys.readouterr()
+    assert ("waived: parking_ramp: turn:H0:approach_0->helix_0: P: fails (-0.03 m): the "
+            "helix turns are tight by design (" + str(w) + ":2)") in captured.out
+    assert ("parking_ramp: ramp:helix_0->helix_0: P: fails (-0.15 m) (worse than "
+            f"{w}:3 accepts: encroaches)") in captured.out
+    assert "3 runs, 2 waived, 1 not allowed" in captured.out
+    assert f"{w}:4: waiver matches no run" in captured.err
+    w.write_text(w.read_text().replace("*,encroaches,only encroaching is accepted",
+                                       "P,fails,the wall is 0.15 m from the lane"))
+    assert main(RAMP_P + ["--waivers", str(w)]) == 0
+    assert "3 runs, 3 waived, 0 not allowed" in capsys.readouterr().out
+
+
+def test_bad_waiver_files_exit_2_naming_file_and_line(tmp_path, capsys):
+    w = tmp_path / "w.csv"
+    for body, message in [("a,P,splendid,r\n", "w.csv:2: verdict 'splendid'"),
+                          ("a,Nobody,fails,r\n", "w.csv:2: unknown vehicle 'Nobody'"),
+                          ]:
+        w.write_text("curve_id,vehicle,verdict,reason\n" + body)
+        assert main(RAMP_P + ["--waivers", str(w)]) == 2
+        assert message in capsys.readouterr().err
+    w.write_text("curve,vehicle,verdict,reason\n")
+    assert main(RAMP_P + ["--waivers", str(w)]) == 2
+    assert "w.csv:1: missing column(s) curve_id" in capsys.readouterr().err
+    # a waiver may name a vehicle of the tables that this check does not run
+    w.write_text("curve_id,vehicle,verdict,reason\nturn:*,WB-62,fails,r\n")
+    assert main(RAMP_P + ["--waivers", str(w), "--kind", "ramp", "--allow", "fails"]) == 0
+
+
+def test_selection_checks_one_scheme(capsys):
+    args = ["check", "-n", NETS["intersection"], "--design-vehicle", "P", "--method",
+            "analytic"]
+    main(args + ["--junction", "T"])
+    out = capsys.readouterr().out
+    assert "selection: junction T: 4 curves" in out and "4 runs" in out
+    main(args + ["--kind", "turn"])
+    assert "20 runs" in capsys.readouterr().out
+    assert main(args + ["--junction", "Y"]) == 2
+    err = capsys.readouterr().err
+    assert "--junction 'Y': no such junction in" in err and "intersection.net.xml" in err
+    assert main(args + ["--bbox", "0,0,1"]) == 2
+    capsys.readouterr()
+    # a selection of nothing is a mistake (another coordinate system?), not a pass
+    assert main(args + ["--bbox=1e6,1e6,1e6,1e6"]) == 2
+    assert "passes the selection (bbox 1e+06,1e+06,1e+06,1e+06)" in capsys.readouterr().err
+
+
+def _realnet(name: str) -> str:
+    """A network of ``shared/realnets`` beside the repository (or beside the folder of
+    worktrees it is in); the test is skipped where there is none."""
+    root = Path(__file__).resolve().parents[2]
+    for up in (root.parent, root.parent.parent):
+        path = up / "shared" / "realnets" / name
+        if path.is_file():
+            return str(path)
+    pytest.skip(f"{name} is not in ../shared/realnets")
+
+
+@pytest.mark.parametrize("net, selection, odd", [
+    # OSM ids full of '#', in the junction's id too (27 turns of one cluster)
+    ("doerpfeldstr.net.xml.gz",
+     ["--junction", "cluster_1884227387_1884227390_1884227396_536402412_#2more"], "#"),
+    # the 20 roundabout curves of Bologna, ids with '[' (a glob character)
+    ("bologna_joined.net.xml.gz", ["--kind", "roundabout"], "["),
+])
+def test_real_network_golden_round_trip(tmp_path, capsys, net, selection, odd):
+    path = _realnet(net)
+    golden = tmp_path / "golden.csv"
+    # analytic: the gate's bookkeeping is the subject here, not libsumo
+    args = ["check", "-n", path, "--design-vehicle", "P", "--method", "analytic", *selection]
+    assert main(args + ["--write-golden", str(golden)]) == 0
+    capsys.readouterr()
+    rows = read_golden(golden)
+    assert len(rows) > 0 and rows.curve_id.str.contains(odd, regex=False).any()
+    if odd == "#":
+        assert rows.curve_id.str.contains("#").mean() > 0.5
+    assert main(args + ["--expect", str(golden)]) == 0
+    out = capsys.readouterr().out
+    n = len(rows)
+    assert (f"{n} expected verdicts: 0 worse, 0 worse but waived, 0 better, {n} as expected; "
+            "0 new curves, 0 new runs, 0 gone curves") in out
+    # one id removed, one added: both listed, exit 1
+    text = golden.read_text().splitlines()
+    removed = rows.curve_id.iloc[n // 2]
+    kept = [x for x in text if removed not in x]
+    assert len(kept) == len(text) - 1
+    added = rows.curve_id.iloc[0] + "#gone"
+    header = kept.index(next(x for x in kept if x.startswith("network,")))
+    row = next(csv.reader([kept[header + 1]]))  # the first run, under another id
+    row[2] = added
+    golden.write_text("\n".join(kept) + "\n" + csv_line(row))
+    assert main(args + ["--expect", str(golden)]) == 1
+    out = capsys.readouterr().out
+    assert f"NEW curve, not in the golden file: {rows.network.iloc[0]}: {removed} (P " in out
+    assert f"GONE curve, in the golden file but not found: {rows.network.iloc[0]}: {added} " in out
+    assert f"{n} expected verdicts" in out and "1 new curves, 0 new runs, 1 gone curves" in out
