@@ -27,12 +27,13 @@ import math
 import os
 import re
 from collections.abc import Iterable, Sequence
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
 
 from analysis.tracking import TrackingSettings
-from networks.curves import KINDS, extract_curves
+from networks.curves import KINDS
 from networks.driver import (
     REPLAY_COMMAND,
     DrivenRun,
@@ -42,10 +43,17 @@ from networks.driver import (
     select_curves,
 )
 from networks.reader import Network, read_network
+from networks.selection import check_junctions, load_selected
 from reports.atomic import write_text_atomic
 from reports.export_geojson import write_geojson
 from reports.exports import EnvelopeRecord
-from reports.options import add_clearance_option, add_table_option, add_vehicle_option
+from reports.options import (
+    add_clearance_option,
+    add_selection_options,
+    add_table_option,
+    add_vehicle_option,
+    selection_of,
+)
 from reports.study import network_name
 from reports.text_table import format_table
 from vehicles.errors import InputError
@@ -90,8 +98,7 @@ def add_parser(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParse
     add_vehicle_option(p, required=True, help="vehicle to drive (repeatable)")
     p.add_argument("--curve", action="append", metavar="ID",
                    help="only this curve (repeatable; ids as `clearance curves` lists them)")
-    p.add_argument("--kind", action="append", choices=KINDS,
-                   help="only curves of this kind (repeatable; default: all)")
+    add_selection_options(p, kinds_default="all")
     p.add_argument("-o", "--output", type=Path, metavar="DIR",
                    help="write results.csv, envelopes.geojson and trajectories/ here")
     add_clearance_option(p)
@@ -124,9 +131,12 @@ def run(args: argparse.Namespace) -> int:
     table = load_tables(args.table, list(dict.fromkeys(args.vehicle)))
     vehicles = [table.vehicle(n) for n in dict.fromkeys(args.vehicle)]
     net = read_network(args.net)
-    curves = select_curves(extract_curves(net, args.kind or KINDS), args.curve)
+    selection = replace(selection_of(args), kinds=tuple(dict.fromkeys(args.kind or KINDS)))
+    if selection.junctions:
+        check_junctions(selection.junctions, [net])
+    curves = select_curves(load_selected(net, selection), args.curve)
     if not curves:
-        raise InputError(f"{args.net}: no curves of kind {', '.join(args.kind or KINDS)}")
+        raise InputError(f"{args.net}: no curve passes the selection ({selection.describe()})")
     fcd = args.output / "fcd.xml" if args.fcd else None
     fcd_tmp = None
     if fcd is not None:

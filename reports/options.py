@@ -31,16 +31,18 @@ def add_clearance_option(p: argparse.ArgumentParser) -> None:
                    help="clearance offset the swept envelope is grown by (m, default 0)")
 
 
-def add_selection_options(p: argparse.ArgumentParser) -> None:
+def add_selection_options(p: argparse.ArgumentParser,
+                          kinds_default: str = "the kinds a study extracts") -> None:
     """``--kind KIND``, ``--junction ID`` (both repeatable) and ``--bbox XMIN,YMIN,XMAX,YMAX``:
     only the curves of one scheme (see :mod:`networks.selection`)."""
     p.add_argument("--kind", action="append", choices=KINDS, metavar="KIND",
                    help=f"only curves of this kind (repeatable; one of {', '.join(KINDS)}; "
-                        "default: every kind a study extracts)")
+                        f"default: {kinds_default})")
     p.add_argument("--junction", action="append", metavar="ID",
                    help="only curves whose junction is ID (repeatable)")
     p.add_argument("--bbox", metavar="XMIN,YMIN,XMAX,YMAX",
-                   help="only curves whose feature meets this box (network coordinates, m)")
+                   help="only curves whose feature meets this box (network coordinates, m; "
+                        "write --bbox=XMIN,... when XMIN is negative)")
 
 
 def selection_of(args: argparse.Namespace) -> Selection:

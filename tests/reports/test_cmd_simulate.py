@@ -108,6 +108,20 @@ def test_summary_printed(tmp_path, capsys):
     assert out.index("CITY-BUS") < out.index("\nP ")  # worst first
 
 
+def test_selection_by_junction_and_box(capsys):
+    base = ["simulate", "-n", str(NET), "-t", str(TABLE), "--vehicle", "P", "--no-sumo"]
+    assert main([*base, "--junction", "T"]) == 0
+    assert "4 run(s)" in capsys.readouterr().out  # the four turns of the T junction
+    # a box round the X junction's centre only
+    from networks.reader import read_network
+
+    x = read_network(NET).junctions["X"]
+    box = f"{x.x - 3},{x.y - 3},{x.x + 3},{x.y + 3}"
+    assert main([*base, f"--bbox={box}", "--kind", "turn"]) == 0  # '=': XMIN may be < 0
+    out = capsys.readouterr().out
+    assert "turn:X:" in out and "turn:T:" not in out
+
+
 @pytest.mark.parametrize("extra, message", [
     (["--vehicle", "WB-41"], "unknown vehicle 'WB-41'; did you mean 'WB-40'"),
     (["--curve", "turn:X:XN_in_0->XW_out_1"],
@@ -116,6 +130,8 @@ def test_summary_printed(tmp_path, capsys):
     (["--fcd"], "--fcd needs an output folder"),
     (["--sumo-step", "0.15"], "the SUMO step (0.15 s) must be a whole multiple"),
     (["--sumo-step", "0"], "the SUMO step must be a positive number"),
+    (["--junction", "TX"], "--junction 'TX': no such junction in"),
+    (["--bbox=1e6,1e6,1e6,1e6"], "no curve passes the selection (kind turn, "),
 ])
 def test_bad_input_exits_2(extra, message, capsys):
     args = ["simulate", "-n", str(NET), "-t", str(TABLE), "--vehicle", "P", *extra]

@@ -163,3 +163,38 @@ def test_a_real_osm_network_with_a_projection(tmp_path):
     assert gj["coordinate_system"].startswith("WGS84")
     lon, lat = gj["features"][0]["geometry"]["coordinates"][0][0][:2]
     assert 11.2 < lon < 11.6 and 48.6 < lat < 48.9  # Ingolstadt
+
+
+def test_waivers_and_a_selection(tmp_path):
+    w = tmp_path / "waivers.csv"
+    w.write_text("curve_id,vehicle,verdict,reason\n"
+                 'turn:T:*,CITY-BUS,fails,"bus stop layout, agreed 2026-11"\n'
+                 "roundabout:*,*,fails,no roundabout here\n")
+    out = tmp_path / "rep"
+    assert run_report(out, "--method", "analytic", "--junction", "T", "--waivers", str(w)) == 0
+    with open(out / "clearance.csv", newline="") as fh:
+        got = list(csv.DictReader(fh))
+    assert list(got[0]) == COLUMNS + ["waived"]
+    assert {r["curve_id"].split(":")[1] for r in got} == {"T"} and len(got) == 4 * 2
+    expected = [r for r in got if r["vehicle"] == "CITY-BUS"
+                and r["verdict"] in ("encroaches", "fails")]
+    assert expected, "the bus should fail or encroach somewhere at T"
+    assert [r for r in got if r["waived"]] == expected
+    assert {r["waived"] for r in expected} == {"bus stop layout, agreed 2026-11"}
+    s = json.loads((out / "summary.json").read_text())
+    assert s["waived"]["runs"] == len(expected)
+    assert s["waived"]["verdicts"]["fails"] == sum(r["verdict"] == "fails" for r in expected)
+    assert s["waived"]["unused_waivers"] == [f"{w}:3"]
+    assert s["waived"]["not_clear_and_not_waived"] == sum(
+        r["verdict"] != "clear" and not r["waived"] for r in got)
+    md = (out / "report.md").read_text()
+    assert f"### Waived runs ({len(expected)})" in md
+    assert "| CITY-BUS |" in md and "bus stop layout, agreed 2026-11 |" in md
+    assert "(waived)" in md
+    html_text = (out / "report.html").read_text()
+    assert f"<h3>Waived runs ({len(expected)})</h3>" in html_text
+    # without --waivers the file keeps its columns
+    assert run_report(out, "--method", "analytic", "--kind", "turn") == 0
+    with open(out / "clearance.csv", newline="") as fh:
+        assert list(next(csv.DictReader(fh))) == COLUMNS
+    assert "waived" not in json.loads((out / "summary.json").read_text())
