@@ -52,8 +52,8 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
         help="CI gate: exit 1 when a design vehicle does not clear a curve",
         description="Exit 0 when every curve of the networks is clear for every design "
                     "vehicle (or waived, or has only allowed verdicts), 1 when any is not, 2 "
-                    "on bad input, 3 on an internal or simulator error. With --expect, "
-                    "compare with a golden file of verdicts instead.",
+                    "on bad input. With --expect, compare with a golden file of verdicts "
+                    "instead: worse verdicts, new and gone curves exit 1.",
     )
     p.add_argument("-n", "--net", action="append", metavar="NET", required=True,
                    help="SUMO network (repeatable)")

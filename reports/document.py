@@ -161,7 +161,9 @@ def markdown(study: Study, sections: list[Section], folder: Path, units: str = "
              "pavement), encroaches (it leaves its own lanes), clear. Margins in "
              f"{'metres' if units == 'm' else 'feet'}: the gap to the own lanes (negative: "
              "how far beyond).", "",
-             "Symbols in the matrices: ✓ clear, ~ encroaches, ✗ fails, ⊘ cannot-turn.", ""]
+             "Symbols in the matrices: ✓ clear, ~ encroaches, ✗ fails, ⊘ cannot-turn"
+             + ("; (waived): accepted by a waiver, listed with its reason under each "
+                "network." if any(x.waived for x in sections) else "."), ""]
     for s in sections:
         lines += [f"## {s.name}", "",
                   "| " + " | ".join(s.counts) + " |", "|" + "---|" * len(s.counts),
