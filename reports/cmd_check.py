@@ -20,7 +20,7 @@ from pathlib import Path
 import pandas as pd
 
 from reports.atomic import write_text_atomic
-from reports.options import add_clearance_option, add_table_option
+from reports.options import add_clearance_option, add_executor_options, add_table_option
 from reports.study import METHODS, VERDICT_ORDER, run_study
 from vehicles.errors import InputError
 from vehicles.table import load_tables
@@ -46,6 +46,7 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
                    help="a verdict that does not fail the gate (repeatable)")
     p.add_argument("--method", choices=METHODS, default="simulate")
     add_clearance_option(p)
+    add_executor_options(p)
     p.add_argument("--expect", metavar="GOLDEN.csv",
                    help="compare with this golden file of verdicts")
     p.add_argument("--write-golden", metavar="GOLDEN.csv",
@@ -110,7 +111,8 @@ def compare(found: pd.DataFrame, golden: pd.DataFrame) -> tuple[list[str], list[
 def run(args: argparse.Namespace) -> int:
     table = load_tables(args.table, args.design_vehicle)
     golden = read_golden(Path(args.expect)) if args.expect else None
-    study = run_study(args.net, table, args.method, args.clearance)
+    study = run_study(args.net, table, args.method, args.clearance,
+                      workers=args.workers, scheduler=args.scheduler)
     frame = study.frame()
     if args.write_golden:
         write_text_atomic(args.write_golden, golden_text(frame))

@@ -20,7 +20,12 @@ from networks.samples.build import SAMPLES, SAMPLES_DIR
 from reports.atomic import write_text_atomic
 from reports.document import build_sections, html_document, markdown
 from reports.exports import EnvelopeRecord
-from reports.options import add_clearance_option, add_table_option, add_vehicle_option
+from reports.options import (
+    add_clearance_option,
+    add_executor_options,
+    add_table_option,
+    add_vehicle_option,
+)
 from reports.study import METHODS, Study, run_study
 from reports.tables import clearance_csv, summary_json
 from vehicles.errors import InputError
@@ -57,6 +62,7 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
                    help="simulate: drive through libsumo with the kinematic model (default); "
                         "analytic: steady-state geometry")
     add_clearance_option(p)
+    add_executor_options(p)
     p.add_argument("--units", choices=("m", "ft"), default="m",
                    help="units of lengths shown in the report documents")
     p.add_argument("--fcd", action="store_true",
@@ -110,7 +116,8 @@ def run(args: argparse.Namespace) -> int:
     tmp = Path(tempfile.mkdtemp(prefix=f".{target.name}.new-", dir=target.parent))
     try:
         fcd = tmp / "fcd" if args.fcd else None
-        study = run_study(nets, table, args.method, args.clearance, fcd_dir=fcd)
+        study = run_study(nets, table, args.method, args.clearance, fcd_dir=fcd,
+                          workers=args.workers, scheduler=args.scheduler)
         write_report(study, tmp, tables, args.units)
         swap_in(tmp, target)
     except BaseException:
