@@ -26,7 +26,7 @@ from reports.options import (
     add_table_option,
     add_vehicle_option,
 )
-from reports.study import METHODS, Study, run_study
+from reports.study import METHODS, VERDICT_ORDER, Study, run_study
 from reports.tables import clearance_csv, summary_json
 from vehicles.errors import InputError
 from vehicles.table import bundled_table_paths, load_tables
@@ -129,6 +129,6 @@ def run(args: argparse.Namespace) -> int:
           f"{sum(len(n.curves) for n in study.networks)} curves, method {args.method}) "
           f"in {time.perf_counter() - t0:.1f} s")
     print("  " + ", ".join(f"{v}: {int(counts.get(v, 0))}"
-                           for v in ("cannot-turn", "fails", "encroaches", "clear")))
+                           for v in sorted(VERDICT_ORDER, key=VERDICT_ORDER.get)))
     print(f"report: {target / 'report.html'}")
     return 0
