@@ -84,7 +84,7 @@ from pathlib import Path as FilePath
 import numpy as np
 import shapely
 
-from analysis.clearance import evaluate
+from analysis.clearance import Areas, evaluate
 from analysis.polyline import Path, prepare_path
 from analysis.tracking import TrackingSettings, simulate_batch
 from networks.curves import Curve
@@ -198,19 +198,28 @@ def drive(
     settings = settings or TrackingSettings()
     options = options or DriveOptions()
     options.samples_per_step(settings.dt_s)  # refuses a SUMO step that does not fit
-    pairs = list(pairs)
-    areas = {}
-    for _, c in pairs:
-        if c.curve_id not in areas:
-            areas[c.curve_id] = curve_areas(c)
     if options.use_sumo and not FilePath(net.path).is_file():
         raise InputError(f"{net.path}: no such network file")
-    out = [DrivenRun(v, c) for v, c in pairs]
+    everything = [DrivenRun(v, c) for v, c in pairs]
+    # A curve whose areas or centre line cannot be used fails its own runs, never the others.
+    areas: dict[str, Areas] = {}
     paths: dict[str, Path] = {}
-    for _, c in pairs:
-        if c.curve_id not in paths:
-            paths[c.curve_id] = prepare_path(c.centerline, settings.spacing_m, name=c.curve_id,
-                                             smooth=True)
+    bad: dict[str, str] = {}
+    for d in everything:
+        c = d.curve
+        if c.curve_id in areas or c.curve_id in bad:
+            continue
+        try:
+            areas[c.curve_id] = curve_areas(c)
+            paths[c.curve_id] = prepare_path(c.centerline, settings.spacing_m,
+                                             name=c.curve_id, smooth=True)
+        except (InputError, ValueError) as exc:
+            bad[c.curve_id] = f"the curve cannot be driven: {exc}"
+            log.warning("%s: %s", c.curve_id, bad[c.curve_id])
+    for d in everything:
+        d.error = bad.get(d.curve.curve_id, "")
+    out = [d for d in everything if not d.error]
+    pairs = [(d.vehicle, d.curve) for d in out]
 
     stats = stats if stats is not None else DriveStats()
 
@@ -238,7 +247,9 @@ def drive(
             pass
     t0 = time.perf_counter()
     for d in out:
-        assert d.run is not None
+        if d.run is None:  # pragma: no cover - every queued run is modelled
+            d.error = d.error or "the model did not run"
+            continue
         try:
             d.result = evaluate(d.run, areas[d.curve.curve_id], options.offset_m)
         except (InputError, ValueError, shapely.errors.ShapelyError) as exc:
@@ -246,7 +257,7 @@ def drive(
             d.error = (d.error + "; " if d.error else "") + f"envelope or verdict failed: {exc}"
             log.warning("%s x %s: %s", d.vehicle.name, d.curve.curve_id, d.error)
     stats.evaluate_s += time.perf_counter() - t0
-    return out
+    return everything
 
 
 class _SumoSession:
@@ -266,7 +277,6 @@ class _SumoSession:
         self.traci = _import_libsumo()
         self.vtypes: dict[str, str] = {}
         self.routes: dict[str, str] = {}
-        self.free_vtypes: set[str] = set()
         self.free_routes: set[str] = set()
         self.bounds: dict[str, np.ndarray] = {}
         self.restarts = 0
@@ -284,7 +294,6 @@ class _SumoSession:
         self.get_position = self.traci.vehicle.getPosition
         self.vtypes.clear()
         self.routes.clear()
-        self.free_vtypes.clear()
         self.free_routes.clear()
 
     def run(self, batches: Iterator[list[int]]) -> None:
@@ -373,6 +382,9 @@ class _SumoSession:
             if v.height_m is not None and math.isfinite(v.height_m):
                 t.vehicletype.setHeight(tid, v.height_m)
             t.vehicletype.setShapeClass(tid, shape_class(v.category))
+            vclass = getattr(v, "vclass", None)
+            if vclass:
+                t.vehicletype.setVehicleClass(tid, vclass)
             t.vehicletype.setParameter(tid, "model", v.name)
             t.vehicletype.setActionStepLength(tid, NO_DECISIONS_S, True)
             for k, val in vtype_parameters(v).items():
@@ -456,33 +468,27 @@ class _SumoSession:
         return _Plan(i, rid, units, len(at), at)
 
     def _add_vehicle(self, vid: str, route: str, vtype: str) -> None:
-        """Add a vehicle; where SUMO refuses it, retry free of SUMO's rules.
+        """Add a vehicle on its route; where SUMO refuses that route, on its first edge.
 
-        The model places the vehicle, not SUMO's rules, but real networks refuse some
-        departures: lanes that do not admit the vehicle class (an OSM service road, a bus
-        lane), or edges SUMO does not see connected for it. Those vehicles get a copy of
-        their vType with vClass ``ignoring`` and a route of the first edge only (placement
-        with keepRoute=2 carries them on). Only then: libsumo 1.28 has crashed stepping
-        ``ignoring`` vehicles through some networks.
+        The vType has the vehicle's own SUMO class, and only curves whose lanes admit it are
+        driven, so SUMO's permissions hold. There is no fallback to vClass ``ignoring``:
+        vehicles of that class, free to be matched onto sidewalks and walking areas by
+        ``moveToXY``, made libsumo 1.28 crash (a segmentation fault in ``simulationStep``)
+        on real networks (Wildau's roundabouts). A vehicle SUMO still refuses fails its run
+        with SUMO's reason.
         """
         t = self.traci
         try:
             t.vehicle.add(vid, route, typeID=vtype, departPos="0")
             return
         except t.TraCIException as exc:
-            text = str(exc)
-            if "not allowed to depart" not in text and "no valid route" not in text:
+            if "no valid route" not in str(exc):
                 raise
-        free = f"{vtype}.free"
-        if free not in self.free_vtypes:
-            t.vehicletype.copy(vtype, free)
-            t.vehicletype.setVehicleClass(free, "ignoring")
-            self.free_vtypes.add(free)
         first = f"{route}.first"
         if first not in self.free_routes:
             t.route.add(first, list(t.route.getEdges(route))[:1])
             self.free_routes.add(first)
-        t.vehicle.add(vid, first, typeID=free, departPos="0")
+        t.vehicle.add(vid, first, typeID=vtype, departPos="0")
 
     def _place_all(self, active: dict[int, _Plan]) -> None:
         """Place every vehicle in flight at its current sample; drop the runs SUMO refuses."""

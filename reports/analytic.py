@@ -110,6 +110,7 @@ def fill_small_holes(geom: BaseGeometry, min_area_m2: float) -> BaseGeometry:
 def run_analytic(vehicle: Vehicle, curve: Curve, offset_m: float = 0.0) -> AnalyticRun:
     """The analytic envelope and verdict of ``vehicle`` on ``curve``."""
     pts = clean_polyline(np.asarray(curve.centerline)[:, :2])
+    path = prepare_path(pts, name=curve.curve_id)  # refuses a line that turns back on itself
     s_pts = arc_length(pts)
     s, k = curvature_profile(pts, step_m=STEP_M)
     core = (s >= curve.core_start_m) & (s <= curve.core_end_m)
@@ -142,8 +143,7 @@ def run_analytic(vehicle: Vehicle, curve: Curve, offset_m: float = 0.0) -> Analy
                   f"centre-line turning radius {min_ctr:.2f} m")
     measured = envelope.buffer(offset_m, quad_segs=8) if offset_m > 0 else envelope
     # The band ends on the lanes' end lines: those ends are not curbs (DESIGN.md §6).
-    boxes = end_boxes(prepare_path(pts, name=curve.curve_id),
-                      float(np.max(inner + outer)) + offset_m + 1.0)
+    boxes = end_boxes(path, float(np.max(inner + outer)) + offset_m + 1.0)
     measured = shapely.difference(measured, boxes)
     ignore = shapely.buffer(boxes, END_SLACK_M, quad_segs=1)
     areas = Areas(curve.own_lanes, curve.paved, curve.roadway)

@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 import logging
 import sys
+import traceback
 from collections.abc import Sequence
 from importlib import import_module
 
@@ -30,30 +31,47 @@ def build_parser() -> argparse.ArgumentParser:
                 raise
             continue
         module.add_parser(sub)
+    for command in sub.choices.values():  # -v is accepted after the sub-command too
+        command.add_argument("-v", "--verbose", action="count", default=0, dest="verbose_sub",
+                             help="log more (-vv: debug)")
     return parser
+
+
+#: The packages whose loggers ``-v`` turns up (not the libraries').
+OWN_LOGGERS = ("vehicles", "analysis", "networks", "reports")
+
+#: Exit statuses (DESIGN.md section 6; the README's "Exit codes").
+EXIT_OK, EXIT_NOT_CLEAR, EXIT_BAD_INPUT, EXIT_INTERNAL = 0, 1, 2, 3
 
 
 def main(argv: Sequence[str] | None = None) -> int:
     parser = build_parser()
     args = parser.parse_args(argv)
-    logging.basicConfig(
-        level=logging.WARNING - 10 * min(args.verbose, 2),
-        format="%(levelname)s: %(message)s",
-    )
+    verbose = args.verbose + getattr(args, "verbose_sub", 0)
+    logging.basicConfig(level=logging.WARNING, format="%(levelname)s: %(message)s")
+    for name in OWN_LOGGERS:
+        logging.getLogger(name).setLevel(logging.WARNING - 10 * min(verbose, 2))
     if not getattr(args, "run", None):
         parser.print_help()
-        return 2
+        return EXIT_BAD_INPUT
     try:
         return int(args.run(args) or 0)
     except InputError as exc:
         print(f"clearance {args.command}: error: {exc}", file=sys.stderr)
-        return 2
+        return EXIT_BAD_INPUT
     except BrokenPipeError:  # output piped into `head` and the like
         sys.stderr.close()
         return 0
     except KeyboardInterrupt:
         print("clearance: interrupted", file=sys.stderr)
         return 130
+    except Exception as exc:  # noqa: BLE001 - an internal or simulator error: exit 3
+        if verbose:
+            traceback.print_exc()
+        print(f"clearance {args.command}: internal error: {type(exc).__name__}: {exc}\n"
+              "This is a bug or a simulator failure, not a verdict; please report it "
+              "(run with -v for the traceback).", file=sys.stderr)
+        return EXIT_INTERNAL
 
 
 if __name__ == "__main__":  # pragma: no cover

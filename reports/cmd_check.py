@@ -33,6 +33,7 @@ from reports.atomic import write_text_atomic
 from reports.golden import compare, golden_text, read_golden, relevant
 from reports.options import (
     add_clearance_option,
+    add_executor_options,
     add_selection_options,
     add_table_option,
     add_waivers_option,
@@ -64,6 +65,7 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
                    help="a verdict that does not fail the gate (repeatable)")
     p.add_argument("--method", choices=METHODS, default="simulate")
     add_clearance_option(p)
+    add_executor_options(p)
     add_selection_options(p)
     add_waivers_option(p)
     golden = p.add_mutually_exclusive_group()
@@ -137,7 +139,8 @@ def run(args: argparse.Namespace) -> int:
     golden = read_golden(Path(args.expect)) if args.expect else None
     waivers = (read_waivers(Path(args.waivers), load_tables(args.table).names)
                if args.waivers else [])
-    study = run_study(args.net, table, args.method, args.clearance, selection=selection)
+    study = run_study(args.net, table, args.method, args.clearance, selection=selection,
+                      workers=args.workers, scheduler=args.scheduler)
     frame = study.frame()
     if not selection.is_empty:
         print(f"selection: {selection.describe()}: "

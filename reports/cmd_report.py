@@ -22,13 +22,14 @@ from reports.document import build_sections, html_document, markdown
 from reports.exports import EnvelopeRecord
 from reports.options import (
     add_clearance_option,
+    add_executor_options,
     add_selection_options,
     add_table_option,
     add_vehicle_option,
     add_waivers_option,
     selection_of,
 )
-from reports.study import METHODS, Study, run_study
+from reports.study import METHODS, VERDICT_ORDER, Study, run_study
 from reports.tables import clearance_csv, summary_json
 from reports.waivers import Waived, read_waivers, study_waivers
 from vehicles.errors import InputError
@@ -65,6 +66,7 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
                    help="simulate: drive through libsumo with the kinematic model (default); "
                         "analytic: steady-state geometry")
     add_clearance_option(p)
+    add_executor_options(p)
     p.add_argument("--units", choices=("m", "ft"), default="m",
                    help="units of lengths shown in the report documents")
     p.add_argument("--fcd", action="store_true",
@@ -128,6 +130,7 @@ def run(args: argparse.Namespace) -> int:
     try:
         fcd = tmp / "fcd" if args.fcd else None
         study = run_study(nets, table, args.method, args.clearance, fcd_dir=fcd,
+                          workers=args.workers, scheduler=args.scheduler,
                           selection=selection)
         waived = study_waivers(study.frame(), waivers) if waivers is not None else None
         write_report(study, tmp, tables, args.units, waived)
@@ -141,7 +144,7 @@ def run(args: argparse.Namespace) -> int:
           f"{sum(len(n.curves) for n in study.networks)} curves, method {args.method}) "
           f"in {time.perf_counter() - t0:.1f} s")
     print("  " + ", ".join(f"{v}: {int(counts.get(v, 0))}"
-                           for v in ("cannot-turn", "fails", "encroaches", "clear")))
+                           for v in sorted(VERDICT_ORDER, key=VERDICT_ORDER.get)))
     if waived is not None:
         print(f"  waived: {len(waived)} runs")
         for w in waived.unused:

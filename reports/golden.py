@@ -24,7 +24,7 @@ import pandas as pd
 
 from networks.selection import Selection
 from reports.csv_rows import read_rows
-from reports.study import VERDICT_ORDER
+from reports.records import VERDICT_ORDER
 from vehicles.errors import InputError
 
 GOLDEN_COLUMNS = ["network", "vehicle", "curve_id", "verdict"]

@@ -31,6 +31,15 @@ def add_clearance_option(p: argparse.ArgumentParser) -> None:
                    help="clearance offset the swept envelope is grown by (m, default 0)")
 
 
+def add_executor_options(p: argparse.ArgumentParser) -> None:
+    """``--workers N`` and ``--scheduler ADDRESS``: where a study's runs are driven."""
+    p.add_argument("--workers", type=int, default=None, metavar="N",
+                   help="worker processes on this machine (default: one per core)")
+    p.add_argument("--scheduler", metavar="ADDRESS", default=None,
+                   help="run on a Dask cluster: the scheduler's address (tcp://HOST:8786); "
+                        "needs pip install 'sumo-clearance[cluster]'")
+
+
 def add_selection_options(p: argparse.ArgumentParser,
                           kinds_default: str = "the kinds a study extracts") -> None:
     """``--kind KIND``, ``--junction ID`` (both repeatable) and ``--bbox XMIN,YMIN,XMAX,YMAX``:

@@ -9,9 +9,17 @@ the longest vehicle), and measures every vehicle on every curve by one of two me
     swept envelope of the run is measured against the curve's areas.
 ``analytic``
     Each vehicle in the steady turn of the local radius at every station
-    (:mod:`reports.analytic`): fast and on the safe side for short turns.
+    (:mod:`reports.analytic`).
 
-The result is a :class:`Study`: one :class:`RunRecord` per network × vehicle × curve, in a
+The runs go out in batches of curves (:data:`BATCH_RUNS` runs at most, a curve's vehicles
+together) to worker processes through one executor (:mod:`reports.executor`): local
+processes or a Dask cluster. Each batch is run by :func:`reports.batch.run_batch`; a run
+that fails gets an ``error`` record with the reason, and a batch whose worker dies (a crash
+in SUMO) is retried alone and then by halves until the runs that crash are found, which get
+``error`` records too. The batches are the same whatever the executor and the number of
+workers, so the results are too.
+
+The result is a :class:`Study`: one :class:`RunRecord` per network x vehicle x curve, in a
 stable order (network, curve, vehicle table order), and the networks with their curves.
 """
 
@@ -20,62 +28,35 @@ from __future__ import annotations
 import logging
 import os
 import sys
-from collections.abc import Callable, Iterable, Sequence
-from dataclasses import dataclass, field
+import time
+from collections.abc import Callable, Iterable, Iterator, Sequence
+from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
 import pandas as pd
-from shapely.geometry.base import BaseGeometry
 
 from networks.curves import Curve, CurveOptions
 from networks.reader import Network, read_network
 from networks.selection import Selection, check_junctions, load_selected
-from reports.analytic import run_analytic
+from reports.batch import Batch, detached, lost_batch, run_batch, split_batch
+from reports.executor import Executor, make_executor, run_isolated
+from reports.records import COLUMNS, VERDICT_ORDER, RunRecord
 from vehicles.errors import InputError
 from vehicles.table import VehicleTable
 from vehicles.vehicle import Vehicle
+
+__all__ = ["BATCH_RUNS", "COLUMNS", "METHODS", "VERDICT_ORDER", "NetworkCurves", "RunRecord",
+           "Study", "batches_of", "load_networks", "network_name", "progress_bar", "run_study"]
 
 log = logging.getLogger(__name__)
 
 METHODS = ("simulate", "analytic")
 
-#: Columns of ``clearance.csv`` in order.
-COLUMNS = ["network", "vehicle", "curve_id", "kind", "junction", "verdict", "margin_m",
-           "paved_margin_m", "curve_radius_m", "vehicle_min_radius_m", "swept_width_m",
-           "available_width_m", "max_offtracking_m", "max_tracking_error_m", "turn_angle_deg",
-           "max_grade_pct", "method", "clearance_m", "reason"]
-
-#: Verdicts worst first; ``error`` is a run SUMO failed (its reason says why).
-VERDICT_ORDER = {"error": -1, "cannot-turn": 0, "fails": 1, "encroaches": 2, "clear": 3}
-
-
-@dataclass
-class RunRecord:
-    """One vehicle on one curve of one network."""
-
-    network: str
-    vehicle: str
-    curve_id: str
-    kind: str
-    junction: str
-    verdict: str
-    margin_m: float
-    paved_margin_m: float
-    curve_radius_m: float
-    vehicle_min_radius_m: float
-    swept_width_m: float
-    available_width_m: float
-    max_offtracking_m: float
-    max_tracking_error_m: float
-    turn_angle_deg: float
-    max_grade_pct: float
-    method: str
-    clearance_m: float
-    reason: str
-    envelope: BaseGeometry | None = field(repr=False)
-
-    def row(self) -> dict[str, object]:
-        return {c: getattr(self, c) for c in COLUMNS}
+#: Runs in one batch (one task of a worker; one SUMO session). Large enough that SUMO's
+#: start (0.2-0.3 s on a city network) is a few per cent of the batch, small enough that
+#: two workers share a small network and a crash costs little to isolate.
+BATCH_RUNS = 400
 
 
 @dataclass
@@ -160,21 +141,25 @@ def progress_bar(total: int, desc: str) -> Callable[[int], None]:
     return update
 
 
-def _analytic_records(nc: NetworkCurves, vehicles: list[Vehicle], clearance_m: float,
-                      update: Callable[[int], None]) -> list[RunRecord]:
-    records = []
-    for curve in nc.curves:
-        for v in vehicles:
-            r = run_analytic(v, curve, clearance_m)
-            c = r.clearance
-            records.append(RunRecord(
-                nc.name, v.name, curve.curve_id, curve.kind, curve.junction, c.verdict,
-                c.margin_m, c.paved_margin_m, curve.min_radius_m, r.vehicle_min_radius_m,
-                r.swept_width_m, curve.lane_width_m, r.max_offtracking_m, 0.0,
-                curve.turn_angle_deg, curve.max_grade_pct, "analytic", clearance_m,
-                c.reason, r.envelope))
-        update(len(vehicles))
-    return records
+
+def batches_of(nc: NetworkCurves, vehicles: Sequence[Vehicle], method: str,
+               clearance_m: float, fcd_dir: Path | None = None,
+               size: int = BATCH_RUNS) -> Iterator[Batch]:
+    """The batches of one network: consecutive curves, each with all its vehicles, up to
+    ``size`` runs (one curve at least).
+
+    A run's result does not depend on the other runs of its batch (the model, the envelope
+    and the verdict are computed run by run; SUMO only replays them), so the batches may be
+    cut to suit the workers: ``tests/reports/test_executor.py`` holds 1 and 2 local workers
+    and a Dask cluster byte-identical on ``clearance.csv``."""
+    per_curve = max(1, size // max(1, len(vehicles)))
+    level = logging.getLogger("reports").getEffectiveLevel()
+    vs = tuple(vehicles)
+    for k, lo in enumerate(range(0, len(nc.curves), per_curve)):
+        curves = [detached(c) for c in nc.curves[lo:lo + per_curve]]
+        pairs = tuple((vi, c) for c in curves for vi in range(len(vs)))
+        yield Batch(nc.name, k, method, clearance_m, vs, pairs,
+                    None if fcd_dir is None else str(fcd_dir), level)
 
 
 def run_study(
@@ -183,9 +168,25 @@ def run_study(
     method: str = "simulate",
     clearance_m: float = 0.0,
     fcd_dir: Path | None = None,
+    workers: int | None = None,
+    scheduler: str | None = None,
+    client: Any = None,
+    executor: Executor | None = None,
     selection: Selection | None = None,
 ) -> Study:
     """Every vehicle of ``table`` through every curve of every network (of ``selection``).
+
+    Parameters
+    ----------
+    workers
+        Local worker processes (default: the cores this process may use).
+    scheduler, client
+        A ``dask.distributed`` scheduler address or client: the runs go to its workers.
+    executor
+        An :class:`~reports.executor.Executor` to use (and leave open) instead.
+    selection
+        Only the curves of this :class:`~networks.selection.Selection` (kind, junction,
+        box), chosen before any area is built.
 
     Raises
     ------
@@ -202,13 +203,25 @@ def run_study(
     total = sum(len(n.curves) for n in nets) * len(vehicles)
     update = progress_bar(total, f"{method} {len(vehicles)} vehicles")
     records: list[RunRecord] = []
-    for nc in nets:
-        if method == "analytic":
-            records += _analytic_records(nc, vehicles, clearance_m, update)
-        else:
-            from reports.simulated import simulated_records
-
-            records += simulated_records(nc, vehicles, clearance_m, update, fcd_dir)
+    ex = executor or make_executor(workers, scheduler, client)
+    try:
+        log.info("%d runs on %d worker(s)", total, ex.workers)
+        for nc in nets:
+            shared = ex.share(nc.path) if method == "simulate" else None
+            t0 = time.perf_counter()
+            runs = len(nc.curves) * len(vehicles)
+            size = max(1, min(BATCH_RUNS, -(-runs // (2 * ex.workers))))
+            tasks = batches_of(nc, vehicles, method, clearance_m, fcd_dir, size)
+            for batch, recs in run_isolated(ex, run_batch, tasks, split_batch, lost_batch,
+                                            shared):
+                records += recs
+                update(len(recs))
+                errors = sum(r.verdict == "error" for r in recs)
+                log.info("batch %s: %d runs (%d error) done at %.1f s", batch.label,
+                         len(recs), errors, time.perf_counter() - t0)
+    finally:
+        if executor is None:
+            ex.close()
     order = {v.name: i for i, v in enumerate(vehicles)}
     net_order = {n.name: i for i, n in enumerate(nets)}
     curve_order = {(n.name, c.curve_id): i for n in nets for i, c in enumerate(n.curves)}

@@ -34,7 +34,7 @@ from pathlib import Path
 import pandas as pd
 
 from reports.csv_rows import read_rows
-from reports.study import VERDICT_ORDER
+from reports.records import VERDICT_ORDER
 from vehicles.errors import InputError
 
 #: Verdicts a waiver may accept (worst last).

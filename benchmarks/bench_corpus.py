@@ -1,0 +1,86 @@
+"""Benchmark: `clearance report` for P and WB-62 on every network of the real corpus.
+
+The corpus is every network in ``../shared/realnets/`` and the road networks the
+eclipse-sumo wheel ships under ``tools/game/``. For each network it runs the report as a
+user would (a subprocess, default workers) and prints one row: file size, junctions,
+curves by kind, wall time, peak memory of all processes together, runs per second, and per
+vehicle the verdict counts (``ct`` cannot-turn, ``f`` fails, ``e`` encroaches, ``c`` clear,
+``err`` error), with the share of ``fails`` + ``cannot-turn`` on curves other than
+``uturn`` (the issue's acceptance figure). A network whose report does not complete is
+printed with its exit status and the last line of its error output.
+
+Run: ``python benchmarks/bench_corpus.py [--vehicle NAME ...] [--workers N] [--only TEXT]``
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+import tempfile
+from collections import Counter
+from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from measure import clearance_cmd, corpus, run_measured, verdict_counts  # noqa: E402
+
+SHORT = {"cannot-turn": "ct", "fails": "f", "encroaches": "e", "clear": "c", "error": "err"}
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=(__doc__ or "").splitlines()[0])
+    parser.add_argument("--vehicle", action="append", help="vehicles (default P and WB-62)")
+    parser.add_argument("--workers", type=int, default=None)
+    parser.add_argument("--only", action="append", help="networks whose path contains TEXT")
+    args = parser.parse_args()
+    vehicles = args.vehicle or ["P", "WB-62"]
+    nets = [p for p in corpus() if not args.only or any(t in str(p) for t in args.only)]
+    print(f"{len(nets)} networks x {', '.join(vehicles)}")
+    header = ("| network | MB | junctions | curves by kind | time s | peak MB | runs/s | "
+              + " | ".join(f"{v} ct/f/e/c/err (bad %)" for v in vehicles) + " |")
+    print(header)
+    print("|" + "---|" * (header.count("|") - 1))
+    for net in nets:
+        with tempfile.TemporaryDirectory() as tmp:
+            out = Path(tmp) / "report"
+            cmd = clearance_cmd("report", "-n", str(net), "-o", str(out))
+            for v in vehicles:
+                cmd += ["--vehicle", v]
+            if args.workers:
+                cmd += ["--workers", str(args.workers)]
+            m = run_measured(cmd)
+            name = f"{net.parent.name}/{net.name}"
+            size = net.stat().st_size / 1e6
+            if m.returncode != 0 or not (out / "clearance.csv").is_file():
+                last = (m.stderr.strip().splitlines() or ["(no message)"])[-1]
+                print(f"| {name} | {size:.1f} | | | {m.wall_s:.0f} | {m.peak_bytes / 1e6:.0f} "
+                      f"| | exit {m.returncode}: {last[:120]} |")
+                continue
+            summary = json.loads((out / "summary.json").read_text())
+            counts, n = verdict_counts(out / "clearance.csv")
+            kinds: Counter[str] = Counter()
+            for (v, kind, _), c in counts.items():
+                if v == vehicles[0]:
+                    kinds[kind] += c
+            cells = []
+            for v in vehicles:
+                by = Counter()
+                bad = total = 0
+                for (vv, kind, verdict), c in counts.items():
+                    if vv != v:
+                        continue
+                    by[verdict] += c
+                    if kind != "uturn" and verdict != "not-permitted":
+                        total += c
+                        bad += c if verdict in ("fails", "cannot-turn") else 0
+                share = 100.0 * bad / total if total else 0.0
+                cells.append("/".join(str(by[k]) for k in SHORT) + f" ({share:.1f} %)")
+            junctions = summary.get("networks", [{}])[0].get("junctions", "")
+            kind_text = ", ".join(f"{k} {c}" for k, c in sorted(kinds.items()))
+            print(f"| {name} | {size:.1f} | {junctions} | {kind_text} | {m.wall_s:.0f} | "
+                  f"{m.peak_bytes / 1e6:.0f} | {n / m.wall_s:.0f} | " + " | ".join(cells) + " |",
+                  flush=True)
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,121 @@
+"""Shared by the study benchmarks: run a command and measure its wall time and the peak
+memory of its whole process tree (the command and every worker it starts), and find the
+corpus of real networks.
+
+The peak is sampled: every ``interval_s`` the resident set sizes of the process and all its
+descendants (``/proc/PID/task/*/children``) are added up; the largest sum is the peak. A
+spike shorter than the interval can be missed, so the figure is a lower bound within a few
+per cent for processes that grow steadily, as a study's do.
+"""
+
+from __future__ import annotations
+
+import csv
+import subprocess
+import sys
+import threading
+import time
+from collections import Counter
+from dataclasses import dataclass
+from pathlib import Path
+
+REPO = Path(__file__).resolve().parent.parent
+REALNETS = REPO.parent / "shared" / "realnets"
+
+
+def _children(pid: int) -> list[int]:
+    out: list[int] = []
+    for task in Path(f"/proc/{pid}/task").glob("*"):
+        try:
+            out += [int(c) for c in (task / "children").read_text().split()]
+        except OSError:
+            pass
+    return out
+
+
+def _rss_bytes(pid: int) -> int:
+    try:
+        for line in Path(f"/proc/{pid}/status").read_text().splitlines():
+            if line.startswith("VmRSS:"):
+                return int(line.split()[1]) * 1024
+    except OSError:
+        pass
+    return 0
+
+
+def tree_rss_bytes(pid: int) -> int:
+    """Resident memory of ``pid`` and all its descendants, now."""
+    total, todo, seen = 0, [pid], set()
+    while todo:
+        p = todo.pop()
+        if p in seen:
+            continue
+        seen.add(p)
+        total += _rss_bytes(p)
+        todo += _children(p)
+    return total
+
+
+@dataclass
+class Measured:
+    """What one command cost."""
+
+    wall_s: float
+    peak_bytes: int
+    returncode: int
+    stderr: str
+
+
+def run_measured(cmd: list[str], interval_s: float = 0.1, cwd: Path | None = None) -> Measured:
+    """Run ``cmd`` to its end; its wall time and the peak memory of its process tree."""
+    t0 = time.perf_counter()
+    proc = subprocess.Popen(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True,
+                            cwd=cwd)
+    peak = 0
+    done = threading.Event()
+
+    def sample() -> None:
+        nonlocal peak
+        while not done.is_set():
+            peak = max(peak, tree_rss_bytes(proc.pid))
+            done.wait(interval_s)
+
+    sampler = threading.Thread(target=sample, daemon=True)
+    sampler.start()
+    _, err = proc.communicate()
+    wall = time.perf_counter() - t0
+    done.set()
+    sampler.join()
+    return Measured(wall, peak, proc.returncode, err)
+
+
+def game_networks() -> list[Path]:
+    """The road networks the eclipse-sumo wheel ships under ``tools/game``."""
+    try:
+        import sumo
+
+        game = Path(sumo.SUMO_HOME) / "tools" / "game"
+    except ImportError:  # pragma: no cover
+        return []
+    return sorted(p for p in game.glob("*/*.net.xml*"))
+
+
+def corpus() -> list[Path]:
+    """Every network of the corpus: ``../shared/realnets/`` and the wheel's game networks."""
+    return sorted(REALNETS.glob("*.net.xml*")) + game_networks()
+
+
+def verdict_counts(csv_path: Path) -> tuple[Counter[tuple[str, str, str]], int]:
+    """``(vehicle, kind, verdict)`` counts of a ``clearance.csv``, and its number of rows."""
+    counts: Counter[tuple[str, str, str]] = Counter()
+    n = 0
+    with open(csv_path, newline="") as fh:
+        for row in csv.DictReader(fh):
+            counts[(row["vehicle"], row["kind"], row["verdict"])] += 1
+            n += 1
+    return counts, n
+
+
+def clearance_cmd(*args: str) -> list[str]:
+    """The ``clearance`` command of this interpreter's environment."""
+    return [sys.executable, "-m", "reports.cli", *args]

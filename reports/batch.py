@@ -1,0 +1,282 @@
+"""One batch of a study's runs, as a worker process runs it: vehicles x curves -> records.
+
+A :class:`Batch` is picklable and self-contained: the vehicles, the curves with their
+areas (detached from the network's area book), the method and the clearance offset. A
+worker reads the network only for SUMO (``simulate``), once per process
+(:func:`worker_network`).
+
+Nothing one run does stops the others: a curve whose centre line cannot be driven, a
+model or geometry error, anything the run raises, becomes that run's ``error`` record with
+the reason (:func:`isolate`, which retries the failing part in halves in this process);
+a crash of the whole worker (SUMO's segmentation faults) is isolated by
+:func:`reports.executor.run_isolated` in the same way, across processes.
+"""
+
+from __future__ import annotations
+
+import copy
+import hashlib
+import logging
+import math
+import os
+import tempfile
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, replace
+from pathlib import Path
+
+from networks.curves import Curve
+from networks.driver import DrivenRun, DriveOptions, drive
+from networks.reader import Network, read_network
+from reports.analytic import minimum_ctr_m, run_analytic
+from reports.executor import SharedFile
+from reports.records import RunRecord
+from vehicles.errors import InputError
+from vehicles.vehicle import Vehicle
+
+__all__ = ["Batch", "detached", "error_record", "isolate", "lost_batch", "run_batch",
+           "split_batch", "worker_network"]
+
+log = logging.getLogger(__name__)
+
+
+@dataclass(frozen=True)
+class Batch:
+    """Runs of one network that go to one worker together.
+
+    Attributes
+    ----------
+    network
+        The study's name of the network.
+    index
+        The batch's number in the network (names its FCD file); ``part`` tells the parts of
+        a batch that was split after a crash apart.
+    method, clearance_m
+        ``simulate`` or ``analytic``, and the clearance offset (m).
+    vehicles
+        The vehicles the pairs refer to.
+    pairs
+        ``(vehicle index, curve)`` of each run, the curve with its areas.
+    fcd_dir
+        Folder for SUMO's FCD output, or ``None``.
+    log_level
+        The study's logging level, for the worker's own log.
+    """
+
+    network: str
+    index: int
+    method: str
+    clearance_m: float
+    vehicles: tuple[Vehicle, ...]
+    pairs: tuple[tuple[int, Curve], ...]
+    fcd_dir: str | None = None
+    log_level: int = logging.WARNING
+    part: str = ""
+
+    def __len__(self) -> int:
+        return len(self.pairs)
+
+    @property
+    def label(self) -> str:
+        """``network#index`` (with the part after a split)."""
+        return f"{self.network}#{self.index}{self.part}"
+
+
+def detached(curve: Curve) -> Curve:
+    """A copy of ``curve`` that holds its own areas (none of the network's area book), so
+    that it can be pickled on its own."""
+    out = copy.copy(curve)
+    out.set_areas(curve.own_lanes, curve.roadway, curve.paved)
+    return out
+
+
+def split_batch(batch: Batch) -> list[Batch]:
+    """The two halves of a batch (a single run cannot be split: ``[]``)."""
+    if len(batch.pairs) < 2:
+        return []
+    mid = len(batch.pairs) // 2
+    return [replace(batch, pairs=batch.pairs[:mid], part=batch.part + "a"),
+            replace(batch, pairs=batch.pairs[mid:], part=batch.part + "b")]
+
+
+def error_record(network: str, vehicle: Vehicle, curve: Curve, method: str,
+                 clearance_m: float, reason: str) -> RunRecord:
+    """The record of a run that could not be completed (verdict ``error``)."""
+    nan = math.nan
+    return RunRecord(
+        network=network, vehicle=vehicle.name, curve_id=curve.curve_id, kind=curve.kind,
+        junction=curve.junction, verdict="error", margin_m=nan, paved_margin_m=nan,
+        curve_radius_m=curve.min_radius_m, vehicle_min_radius_m=minimum_ctr_m(vehicle),
+        swept_width_m=nan, available_width_m=curve.lane_width_m, max_offtracking_m=nan,
+        max_tracking_error_m=nan, turn_angle_deg=curve.turn_angle_deg,
+        max_grade_pct=curve.max_grade_pct, method=method, clearance_m=clearance_m,
+        reason=reason, envelope=None)
+
+
+def lost_batch(batch: Batch, reason: str) -> list[RunRecord]:
+    """``error`` records for the runs of a batch whose worker died even when run alone."""
+    why = ("the worker process died running this alone (SUMO crashed or memory ran out): "
+           + reason)
+    return [error_record(batch.network, batch.vehicles[v], c, batch.method, batch.clearance_m,
+                         why) for v, c in batch.pairs]
+
+
+def isolate(items: Sequence[tuple[int, Curve]],
+            run: Callable[[Sequence[tuple[int, Curve]]], list[RunRecord]],
+            failed: Callable[[tuple[int, Curve], str], RunRecord]) -> list[RunRecord]:
+    """``run(items)``; where it raises, the same for each half, down to single items, which
+    get ``failed(item, reason)``. Bad input (:class:`InputError` about the whole study, e.g.
+    a missing network) is not a run's fault and is raised.
+
+    Examples
+    --------
+    >>> def run(xs):
+    ...     if 3 in [x for x, _ in xs]:
+    ...         raise ValueError("three")
+    ...     return [x for x, _ in xs]
+    >>> isolate([(1, None), (3, None), (4, None)], run, lambda it, why: (it[0], why))
+    [1, (3, 'ValueError: three'), 4]
+    >>> isolate([], run, lambda it, why: why)
+    []
+    """
+    if not items:
+        return []
+    try:
+        return run(items)
+    except StudyInputError:
+        raise
+    except Exception as exc:  # noqa: BLE001 - one run's failure must not lose the others
+        if len(items) == 1:
+            reason = f"{type(exc).__name__}: {exc}"
+            log.warning("run failed: %s", reason)
+            return [failed(items[0], reason)]
+        mid = len(items) // 2
+        return isolate(items[:mid], run, failed) + isolate(items[mid:], run, failed)
+
+
+class StudyInputError(InputError):
+    """Bad input that concerns the whole study, not one run (raised, never isolated)."""
+
+
+#: The networks this worker process has read, by file identity.
+_NETWORKS: dict[tuple[str, str], Network] = {}
+
+
+def worker_network(shared: SharedFile) -> Network:
+    """The network of ``shared``, read once per worker process.
+
+    On a cluster (the file's bytes sent along) a worker without the file at its path writes
+    the bytes to a temporary folder named by their hash and reads that.
+    """
+    path = Path(shared[0])
+    if shared[1] is not None:
+        data: bytes = shared[1]
+        digest = hashlib.sha256(data).hexdigest()[:24]
+        key = (digest, "")
+        if key not in _NETWORKS:
+            if not (path.is_file() and path.stat().st_size == len(data)
+                    and hashlib.sha256(path.read_bytes()).hexdigest()[:24] == digest):
+                folder = Path(tempfile.gettempdir()) / f"clearance-net-{digest}"
+                folder.mkdir(exist_ok=True)
+                path = folder / path.name
+                if not path.is_file():
+                    tmp = folder / f".{path.name}.{os.getpid()}.tmp"
+                    tmp.write_bytes(data)
+                    os.replace(tmp, path)
+            _NETWORKS[key] = read_network(path)
+        return _NETWORKS[key]
+    try:
+        st = path.stat()
+    except OSError as exc:
+        raise StudyInputError(f"{path}: cannot read the network in a worker: "
+                              f"{exc.strerror}") from None
+    key = (str(path.resolve()), f"{st.st_size}:{st.st_mtime_ns}")
+    if key not in _NETWORKS:
+        _NETWORKS.clear()  # one network at a time: a study goes network by network
+        _NETWORKS[key] = read_network(path)
+    return _NETWORKS[key]
+
+
+def _configure_logging(level: int) -> None:
+    """The worker logs as the study's process does (the CLI's format, its level for our
+    own packages)."""
+    if not logging.getLogger().handlers:
+        logging.basicConfig(level=logging.WARNING, format="%(levelname)s: %(message)s")
+    for name in ("vehicles", "analysis", "networks", "reports"):
+        logging.getLogger(name).setLevel(level)
+
+
+def _simulated(batch: Batch, net: Network, items: Sequence[tuple[int, Curve]]
+               ) -> list[RunRecord]:
+    fcd = None
+    if batch.fcd_dir is not None:
+        Path(batch.fcd_dir).mkdir(parents=True, exist_ok=True)
+        fcd = Path(batch.fcd_dir) / f"{batch.network}_{batch.index:03d}{batch.part}.fcd.xml"
+    options = DriveOptions(offset_m=batch.clearance_m, fcd_output=fcd)
+    runs = drive(net, [(batch.vehicles[v], c) for v, c in items], options=options)
+    return [_driven_record(batch, r) for r in runs]
+
+
+def _driven_record(batch: Batch, r: DrivenRun) -> RunRecord:
+    res, curve, v = r.result, r.curve, r.vehicle
+    if res is None:
+        return error_record(batch.network, v, curve, "simulate", batch.clearance_m,
+                            r.reason or "no result")
+    nan = math.nan
+    return RunRecord(
+        network=batch.network, vehicle=v.name, curve_id=curve.curve_id, kind=curve.kind,
+        junction=curve.junction, verdict=r.verdict,
+        margin_m=res.clearance.margin_m, paved_margin_m=res.clearance.paved_margin_m,
+        curve_radius_m=curve.min_radius_m, vehicle_min_radius_m=minimum_ctr_m(v),
+        swept_width_m=res.swept.max_swept_width_m, available_width_m=curve.lane_width_m,
+        max_offtracking_m=res.swept.max_offtracking_m,
+        max_tracking_error_m=r.run.max_error_m if r.run else nan,
+        turn_angle_deg=curve.turn_angle_deg, max_grade_pct=curve.max_grade_pct,
+        method="simulate", clearance_m=batch.clearance_m, reason=r.reason,
+        envelope=res.measured)
+
+
+def _analytic(batch: Batch, items: Sequence[tuple[int, Curve]]) -> list[RunRecord]:
+    out = []
+    for vi, curve in items:
+        v = batch.vehicles[vi]
+        r = run_analytic(v, curve, batch.clearance_m)
+        c = r.clearance
+        out.append(RunRecord(
+            batch.network, v.name, curve.curve_id, curve.kind, curve.junction, c.verdict,
+            c.margin_m, c.paved_margin_m, curve.min_radius_m, r.vehicle_min_radius_m,
+            r.swept_width_m, curve.lane_width_m, r.max_offtracking_m, 0.0,
+            curve.turn_angle_deg, curve.max_grade_pct, "analytic", batch.clearance_m,
+            c.reason, r.envelope))
+    return out
+
+
+def run_batch(batch: Batch, shared: SharedFile | None = None) -> list[RunRecord]:
+    """Every run of ``batch``, one record each in the batch's order (the task a worker runs).
+
+    ``shared`` is the network file (needed by ``simulate`` only).
+    """
+    _configure_logging(batch.log_level)
+
+    def failed(item: tuple[int, Curve], reason: str) -> RunRecord:
+        v, c = item
+        return error_record(batch.network, batch.vehicles[v], c, batch.method,
+                            batch.clearance_m, reason)
+
+    if batch.method == "analytic":
+        def run(items: Sequence[tuple[int, Curve]]) -> list[RunRecord]:
+            return _analytic(batch, items)
+    else:
+        if shared is None:
+            raise StudyInputError(f"{batch.label}: simulate needs the network file")
+        net = worker_network(shared)
+
+        def run(items: Sequence[tuple[int, Curve]]) -> list[RunRecord]:
+            return _simulated(batch, net, items)
+
+    # analytic runs are independent: one at a time, so that a failure costs nothing twice
+    if batch.method == "analytic":
+        out: list[RunRecord] = []
+        for item in batch.pairs:
+            out += isolate([item], run, failed)
+        return out
+    return isolate(list(batch.pairs), run, failed)

@@ -1,0 +1,53 @@
+"""A study's result rows: one :class:`RunRecord` per network x vehicle x curve.
+
+The columns of ``clearance.csv`` (:data:`COLUMNS`) and the order of the verdicts
+(:data:`VERDICT_ORDER`, worst first, ``error`` before every verdict) are defined here once.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+from shapely.geometry.base import BaseGeometry
+
+__all__ = ["COLUMNS", "VERDICT_ORDER", "RunRecord"]
+
+#: Columns of ``clearance.csv`` in order.
+COLUMNS = ["network", "vehicle", "curve_id", "kind", "junction", "verdict", "margin_m",
+           "paved_margin_m", "curve_radius_m", "vehicle_min_radius_m", "swept_width_m",
+           "available_width_m", "max_offtracking_m", "max_tracking_error_m", "turn_angle_deg",
+           "max_grade_pct", "method", "clearance_m", "reason"]
+
+#: Verdicts worst first; ``error`` is a run the tool or SUMO could not complete (its reason
+#: says why).
+VERDICT_ORDER = {"error": -1, "cannot-turn": 0, "fails": 1, "encroaches": 2, "clear": 3}
+
+
+@dataclass
+class RunRecord:
+    """One vehicle on one curve of one network."""
+
+    network: str
+    vehicle: str
+    curve_id: str
+    kind: str
+    junction: str
+    verdict: str
+    margin_m: float
+    paved_margin_m: float
+    curve_radius_m: float
+    vehicle_min_radius_m: float
+    swept_width_m: float
+    available_width_m: float
+    max_offtracking_m: float
+    max_tracking_error_m: float
+    turn_angle_deg: float
+    max_grade_pct: float
+    method: str
+    clearance_m: float
+    reason: str
+    envelope: BaseGeometry | None = field(repr=False)
+
+    def row(self) -> dict[str, object]:
+        """The record's values by :data:`COLUMNS`."""
+        return {c: getattr(self, c) for c in COLUMNS}

@@ -1,0 +1,70 @@
+"""A batch as a worker runs it: one bad curve costs only its own runs, in both methods."""
+
+from __future__ import annotations
+
+import dataclasses
+import hashlib
+
+import numpy as np
+import pytest
+
+from networks.curves import extract_curves
+from networks.reader import read_network
+from reports.batch import Batch, detached, run_batch, split_batch, worker_network
+from reports.cmd_report import sample_networks
+from vehicles.table import bundled_table_paths, load_tables
+
+NET = next(p for p in sample_networks() if p.stem.startswith("intersection"))
+
+
+@pytest.fixture(scope="module")
+def setup():
+    net = read_network(NET)
+    curves = [detached(c) for c in extract_curves(net)[:4]]
+    vehicles = tuple(load_tables(bundled_table_paths(), ["P", "CITY-BUS"]).vehicles())
+    return net, curves, vehicles
+
+
+def _folded(curve):
+    """``curve`` with a centre line that turns back on itself halfway."""
+    line = np.array(curve.centerline, dtype=float)
+    mid = len(line) // 2
+    line[mid + 1:, :2] = line[mid, :2] - (line[mid + 1:, :2] - line[mid, :2])
+    out = dataclasses.replace(curve, centerline=line)
+    out.set_areas(curve.own_lanes, curve.roadway, curve.paved)
+    return out
+
+
+@pytest.mark.parametrize("method", ["simulate", "analytic"])
+def test_a_curve_that_turns_back_is_an_error_and_the_others_are_unchanged(setup, method):
+    net, curves, vehicles = setup
+    pairs = tuple((v, c) for c in curves for v in range(len(vehicles)))
+    good = run_batch(Batch("x", 0, method, 0.0, vehicles, pairs), (str(NET), None))
+    bad_curves = [curves[0], _folded(curves[1]), curves[2], curves[3]]
+    bad_pairs = tuple((v, c) for c in bad_curves for v in range(len(vehicles)))
+    got = run_batch(Batch("x", 0, method, 0.0, vehicles, bad_pairs), (str(NET), None))
+    assert len(got) == len(good) == 4 * len(vehicles)
+    for g, w in zip(got, good, strict=True):
+        assert (g.curve_id, g.vehicle) == (w.curve_id, w.vehicle)
+        if g.curve_id == curves[1].curve_id:
+            assert g.verdict == "error"
+            assert "turns back on itself" in g.reason
+        else:
+            assert (g.verdict, g.margin_m, g.reason) == (w.verdict, w.margin_m, w.reason)
+
+
+def test_split_halves_keep_every_run_once(setup):
+    _, curves, vehicles = setup
+    pairs = tuple((v, c) for c in curves for v in range(len(vehicles)))
+    batch = Batch("x", 3, "analytic", 0.0, vehicles, pairs)
+    a, b = split_batch(batch)
+    assert a.pairs + b.pairs == pairs and a.label == "x#3a" and b.label == "x#3b"
+    assert split_batch(dataclasses.replace(batch, pairs=pairs[:1])) == []
+
+
+def test_a_worker_without_the_file_writes_the_sent_bytes(tmp_path):
+    data = NET.read_bytes()
+    missing = tmp_path / "elsewhere" / NET.name
+    net = worker_network((str(missing), data))
+    assert hashlib.sha256(open(net.path, "rb").read()).digest() == hashlib.sha256(data).digest()
+    assert net.path != str(missing) and len(net.lanes) == len(read_network(NET).lanes)
