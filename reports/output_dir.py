@@ -315,11 +315,17 @@ def _lock(display: Path, path: Path) -> int:
             same = os.path.samestat(os.fstat(fd), os.stat(path))
         except FileNotFoundError:
             same = False
-        if same:
+        if not same:
+            os.close(fd)
+            continue
+        try:
             os.ftruncate(fd, 0)
             os.pwrite(fd, f"{os.getpid()}\n".encode(), 0)
-            return fd
-        os.close(fd)
+        except OSError as exc:
+            _unlock(fd, path)
+            raise InputError(f"{display}: cannot write in the folder {path.parent}: "
+                             f"{exc.strerror}") from None
+        return fd
 
 
 def _unlock(fd: int, path: Path) -> None:
