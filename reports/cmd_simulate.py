@@ -136,16 +136,17 @@ def run(args: argparse.Namespace) -> int:
         raise InputError("--fcd needs SUMO; drop --no-sumo")
     table = load_tables(args.table, list(dict.fromkeys(args.vehicle)))
     vehicles = [table.vehicle(n) for n in dict.fromkeys(args.vehicle)]
-    net = read_network(args.net)
-    curves = select_curves(extract_curves(net, args.kind or KINDS), args.curve)
-    if not curves:
-        raise InputError(f"{args.net}: no curves of kind {', '.join(args.kind or KINDS)}")
     settings = TrackingSettings()
     options = DriveOptions(batch_size=args.batch, offset_m=args.clearance,
                            use_sumo=not args.no_sumo, sumo_step_s=args.sumo_step)
     options.samples_per_step(settings.dt_s)  # a step that does not fit: exit 2 before work
+    # the output folder is checked and locked before the network is read
     folder = output_folder(args.output, LAYOUT) if args.output is not None else nullcontext()
     with folder as staging:
+        net = read_network(args.net)
+        curves = select_curves(extract_curves(net, args.kind or KINDS), args.curve)
+        if not curves:
+            raise InputError(f"{args.net}: no curves of kind {', '.join(args.kind or KINDS)}")
         if staging is not None and args.fcd:
             options = dataclasses.replace(options, fcd_output=staging / "fcd.xml")
         runs = drive(net, [(v, c) for v in vehicles for c in curves], settings, options)
