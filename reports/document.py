@@ -61,7 +61,8 @@ def build_sections(study: Study, folder: Path, units: str = "m") -> list[Section
     sections = []
     for nc in study.networks:
         f = frame[frame.network == nc.name]
-        plan = plot_network(nc, f, figs / file_name([nc.name, "plan"]))[0]
+        # stems: plotting.save appends .png and .svg
+        plan = plot_network(nc, f, figs / file_name([nc.name, "plan"], room=4))[0]
         worst = worst_by_curve(f)
         counts = {v: int((f.verdict == v).sum()) for v in sorted(VERDICT_ORDER,
                                                                    key=VERDICT_ORDER.get)
@@ -81,7 +82,7 @@ def build_sections(study: Study, folder: Path, units: str = "m") -> list[Section
             recs = [r for r in study.records if r.network == nc.name and r.curve_id == cid]
             recs.sort(key=lambda r: (VERDICT_ORDER[r.verdict], r.margin_m))
             shown = pick_envelopes(recs)
-            stem = figs / file_name([nc.name, "curve", cid])
+            stem = figs / file_name([nc.name, "curve", cid], room=4)
             png = plot_curve(nc, by_id[cid], shown, stem)[0]
             caption = ", ".join(f"{r.vehicle} {r.verdict} ({r.margin_m / scale:+.2f} {units})"
                                 for r in shown)

@@ -34,7 +34,7 @@ _HASH_DIGITS = 16
 _SEP = "__"
 
 
-def file_name(parts: Sequence[str], suffix: str = "") -> str:
+def file_name(parts: Sequence[str], suffix: str = "", room: int = 0) -> str:
     """A file name for ``parts`` (ids, names) joined by ``__``, ending in ``suffix``.
 
     Parameters
@@ -43,12 +43,14 @@ def file_name(parts: Sequence[str], suffix: str = "") -> str:
         The ids the file stands for, e.g. ``(vehicle, curve_id)``.
     suffix
         Appended as is (``".csv"``); it must itself be a safe name.
+    room
+        Bytes to leave for a suffix the caller appends later (a figure stem's ``.png``).
 
     Returns
     -------
     str
-        At most :data:`MAX_NAME_BYTES` bytes, only ``[A-Za-z0-9._~-]``, never starting with
-        ``.``.
+        At most :data:`MAX_NAME_BYTES` bytes less ``room``, only ``[A-Za-z0-9._~-]``,
+        never starting with ``.``.
 
     Examples
     --------
@@ -58,20 +60,22 @@ def file_name(parts: Sequence[str], suffix: str = "") -> str:
     'P__turn_X_XN_in_0-_XW_out_0~dcaa41e1a86e8078.csv'
     >>> len(file_name(["P", "e#1/" * 60], ".csv"))
     200
+    >>> len(file_name(["e#1/" * 60], room=4)) + len(".png")
+    200
     >>> file_name([""])  # degenerate: nothing readable is left
     '_~e3b0c44298fc1c14'
     """
-    if _UNSAFE.search(suffix) or len(suffix) > MAX_NAME_BYTES // 4:
-        raise ValueError(f"file_name: unsafe suffix {suffix!r}")
+    if _UNSAFE.search(suffix) or not 0 <= len(suffix) + room <= MAX_NAME_BYTES // 4:
+        raise ValueError(f"file_name: unsafe suffix {suffix!r} or room {room}")
     cleaned = [_UNSAFE.sub("_", p) for p in parts]
     readable = _SEP.join(cleaned)
     # kept as is only when the parts can be read back: no part holds the separator or
     # begins or ends with "_" (``a_`` + ``b`` and ``a`` + ``_b`` would both be ``a___b``)
     exact = (cleaned == list(parts) and not readable.startswith(".")
              and all(p and _SEP not in p and p[0] != "_" and p[-1] != "_" for p in parts))
-    if exact and len(readable) + len(suffix) <= MAX_NAME_BYTES:
+    if exact and len(readable) + len(suffix) + room <= MAX_NAME_BYTES:
         return readable + suffix
     digest = hashlib.sha256("\0".join(parts).encode("utf-8", "surrogatepass")).hexdigest()
-    keep = MAX_NAME_BYTES - len(suffix) - 1 - _HASH_DIGITS
+    keep = MAX_NAME_BYTES - room - len(suffix) - 1 - _HASH_DIGITS
     head = readable.lstrip(".")[:keep] or "_"
     return f"{head}~{digest[:_HASH_DIGITS]}{suffix}"
