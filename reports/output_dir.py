@@ -78,9 +78,10 @@ __all__ = ["LAYOUT_VERSION", "Layout", "foreign_entries", "marker_name", "output
 #: Version of the folder layout, on the marker's first line.
 LAYOUT_VERSION = 1
 
-#: Errors of the storage itself, reported as the output's problem (exit status 2).
-_STORAGE_ERRNOS = {errno.ENOSPC, errno.EDQUOT, errno.EROFS, errno.EFBIG, errno.EACCES,
-                   errno.EPERM, errno.ENOTDIR, errno.EIO}
+#: Errors of the storage itself: while the output is written, reported as its problem
+#: (exit status 2) wherever they come from; any other error only when it names a file in
+#: the staging folder.
+_STORAGE_ERRNOS = {errno.ENOSPC, errno.EDQUOT, errno.EROFS, errno.EFBIG, errno.EIO}
 
 _AT_FDCWD = -100
 _RENAME_NOREPLACE = 1
@@ -381,6 +382,13 @@ def _resolve(display: Path) -> Path:
     return real
 
 
+def _inside(filename: object, folder: Path) -> bool:
+    if not isinstance(filename, str | bytes | os.PathLike):
+        return False
+    path = Path(os.fsdecode(filename))
+    return path == folder or folder in path.parents
+
+
 def _storage_error(display: Path, exc: OSError) -> InputError:
     where = f" ({exc.filename})" if exc.filename else ""
     return InputError(f"{display}: cannot write the output{where}: {exc.strerror}; the "
@@ -439,9 +447,13 @@ def output_folder(path: str | os.PathLike[str], layout: Layout) -> Iterator[Path
         try:
             yield staging
         except OSError as exc:
-            if exc.errno in _STORAGE_ERRNOS:
+            if exc.errno in _STORAGE_ERRNOS or _inside(exc.filename, staging):
                 raise _storage_error(display, exc) from None
             raise
+        except InputError as exc:  # a file that could not be written: named as in DIR
+            if str(staging) not in str(exc):
+                raise
+            raise InputError(str(exc).replace(str(staging), str(display))) from None
         if os.path.lexists(real) and (why := _refusal(display, real, layout)):
             raise InputError(why)
         try:

@@ -365,6 +365,7 @@ def test_disk_full_while_writing_exits_2_and_keeps_the_previous(previous, monkey
     monkeypatch.setattr(os, "fsync", full)
     assert main([*SIMULATE, "--curve", CURVES[1], "-o", str(out)]) == 2
     err = capsys.readouterr().err
+    assert f"error: {out}/trajectories/" in err and ".new-" not in err  # named as in DIR
     assert "No space left on device" in err and "Traceback" not in err
     assert tree(out) == files
     assert sorted(p.name for p in out.parent.iterdir()) == ["sim"]
@@ -420,7 +421,7 @@ def test_a_really_full_disk_and_a_read_only_one(small_fs, capsys):
     os.truncate(filler, filler.stat().st_size - 16384)
     assert main([*SIMULATE, "--curve", CURVES[1], "-o", str(out)]) == 2
     err = capsys.readouterr().err
-    assert "trajectories" in err and "No space left on device" in err
+    assert f"error: {out}/trajectories/P__" in err and "No space left on device" in err
     assert "Traceback" not in err
     assert tree(out) == files
     assert sorted(p.name for p in small_fs.iterdir()) == ["filler", "sim"]
@@ -431,3 +432,14 @@ def test_a_really_full_disk_and_a_read_only_one(small_fs, capsys):
     err = capsys.readouterr().err
     assert f"{out}: cannot write in the folder {small_fs}: Read-only file system" in err
     assert tree(out) == files
+
+
+def test_errors_while_writing_name_the_output_and_other_errors_pass(tmp_path):
+    out = tmp_path / "out"
+    with pytest.raises(InputError, match=r"out: cannot write the output \(.*sub\): Perm"):
+        with output_folder(out, DEMO) as staging:
+            raise PermissionError(errno.EACCES, "Permission denied", str(staging / "sub"))
+    with pytest.raises(PermissionError):  # not the output's: left as it is
+        with output_folder(out, DEMO):
+            raise PermissionError(errno.EACCES, "Permission denied", "/etc/shadow")
+    assert sorted(p.name for p in tmp_path.iterdir()) == []
