@@ -443,3 +443,18 @@ def test_errors_while_writing_name_the_output_and_other_errors_pass(tmp_path):
         with output_folder(out, DEMO):
             raise PermissionError(errno.EACCES, "Permission denied", "/etc/shadow")
     assert sorted(p.name for p in tmp_path.iterdir()) == []
+
+
+def test_a_read_only_parent_exits_2_and_keeps_the_previous(previous, monkeypatch, capsys):
+    # the real read-only file system is in the tmpfs test; this one runs everywhere
+    out, files = previous
+
+    def read_only(*args, **kwargs):
+        raise OSError(errno.EROFS, os.strerror(errno.EROFS), str(out.parent / ".sim.new-x"))
+
+    monkeypatch.setattr(output_dir.tempfile, "mkdtemp", read_only)
+    assert main([*SIMULATE, "--curve", CURVES[1], "-o", str(out)]) == 2
+    err = capsys.readouterr().err
+    assert f"error: {out}: cannot write the output" in err and "Read-only file system" in err
+    assert "Traceback" not in err and tree(out) == files
+    assert sorted(p.name for p in out.parent.iterdir()) == ["sim"]  # the lock is gone too
