@@ -60,6 +60,7 @@ from __future__ import annotations
 import ctypes
 import errno
 import fcntl
+import hashlib
 import os
 import re
 import secrets
@@ -82,6 +83,9 @@ LAYOUT_VERSION = 1
 #: (exit status 2) wherever they come from; any other error only when it names a file in
 #: the staging folder.
 _STORAGE_ERRNOS = {errno.ENOSPC, errno.EDQUOT, errno.EROFS, errno.EFBIG, errno.EIO}
+
+#: Longest output folder name used as is in its helpers' names (``.<name>.new-<pid>-<8>``).
+_MAX_BASE_BYTES = 200
 
 _AT_FDCWD = -100
 _RENAME_NOREPLACE = 1
@@ -264,7 +268,7 @@ def _swap_in(staging: Path, target: Path) -> None:
         # the previous output, now under the staging name (a leftover if this fails)
         shutil.rmtree(staging, ignore_errors=True)
         return
-    old = target.parent / f".{target.name}.old-{os.getpid()}-{secrets.token_hex(4)}"
+    old = target.parent / f".{_base(target)}.old-{os.getpid()}-{secrets.token_hex(4)}"
     os.rename(target, old)
     try:
         os.rename(staging, target)
@@ -338,7 +342,7 @@ def _unlock(fd: int, path: Path) -> None:
 
 
 def _leftovers(target: Path, tag: str) -> list[Path]:
-    pattern = re.compile(rf"\.{re.escape(target.name)}\.{tag}-.+")
+    pattern = re.compile(rf"\.{re.escape(_base(target))}\.{tag}-.+")
     try:
         names = os.listdir(target.parent)
     except OSError:
@@ -370,11 +374,28 @@ def _recover(target: Path, layout: Layout) -> None:
 # ------------------------------------------------------------------------------ entry
 
 
+def _base(target: Path) -> str:
+    """``target``'s name in the names of its lock, staging and old folders.
+
+    A name too long to take ``.`` and ``.new-<pid>-<random>`` under the 255-byte limit of
+    file names is cut, with a hash of the whole name:
+
+    >>> len(_base(Path("x" * 250)).encode())
+    117
+    """
+    raw = os.fsencode(target.name)
+    if len(raw) <= _MAX_BASE_BYTES:
+        return target.name
+    return os.fsdecode(raw[:100]) + "~" + hashlib.sha256(raw).hexdigest()[:16]
+
+
 def _resolve(display: Path) -> Path:
     """The real path of the output folder ``display``; refuse what cannot be one."""
     real = Path(os.path.realpath(display))
     if not real.name or real.parent == real:
         raise InputError(f"{display}: cannot be an output folder (it is the root)")
+    if len(os.fsencode(real.name)) > 255:
+        raise InputError(f"{display}: the folder's name is longer than 255 bytes")
     cwd = Path(os.path.realpath(Path.cwd()))
     if real == cwd or real in cwd.parents:
         raise InputError(f"{display}: cannot be an output folder: it is the current folder"
@@ -426,7 +447,7 @@ def output_folder(path: str | os.PathLike[str], layout: Layout) -> Iterator[Path
     except OSError as exc:
         raise InputError(f"{display}: cannot create the folder {real.parent}: "
                          f"{exc.strerror}") from None
-    lock_path = real.parent / f".{real.name}.lock"
+    lock_path = real.parent / f".{_base(real)}.lock"
     fd = _lock(display, lock_path)
     staging: Path | None = None
     try:
@@ -437,7 +458,7 @@ def output_folder(path: str | os.PathLike[str], layout: Layout) -> Iterator[Path
         if os.path.lexists(real) and (why := _refusal(display, real, layout)):
             raise InputError(why)
         try:
-            staging = Path(tempfile.mkdtemp(prefix=f".{real.name}.new-{os.getpid()}-",
+            staging = Path(tempfile.mkdtemp(prefix=f".{_base(real)}.new-{os.getpid()}-",
                                             dir=real.parent))
             os.chmod(staging, 0o777 & ~current_umask())
             (staging / marker_name(layout.kind)).write_text(_marker_text(layout.kind),

@@ -458,3 +458,13 @@ def test_a_read_only_parent_exits_2_and_keeps_the_previous(previous, monkeypatch
     assert f"error: {out}: cannot write the output" in err and "Read-only file system" in err
     assert "Traceback" not in err and tree(out) == files
     assert sorted(p.name for p in out.parent.iterdir()) == ["sim"]  # the lock is gone too
+
+
+def test_a_folder_name_of_250_bytes_works_and_one_over_255_is_refused(tmp_path):
+    out = tmp_path / ("ü" * 125)  # 250 bytes: its staging name is cut, with a hash
+    write_demo(out)
+    write_demo(out, "demo,again\n")
+    assert (out / "a.txt").read_text() == "demo,again\n"
+    assert os.listdir(tmp_path) == [out.name]
+    with pytest.raises(InputError, match="longer than 255 bytes"):
+        write_demo(tmp_path / ("x" * 256))
