@@ -9,6 +9,17 @@ from pathlib import Path
 from vehicles.errors import InputError
 
 
+def current_umask() -> int:
+    """The process's umask (read by setting it and putting it back).
+
+    >>> 0 <= current_umask() <= 0o777
+    True
+    """
+    umask = os.umask(0o022)
+    os.umask(umask)
+    return umask
+
+
 def write_text_atomic(path: str | Path, text: str) -> Path:
     """Write ``text`` to ``path`` through a temporary file in the same folder.
 
@@ -18,7 +29,12 @@ def write_text_atomic(path: str | Path, text: str) -> Path:
 
 
 def write_bytes_atomic(path: str | Path, data: bytes) -> Path:
-    """Write ``data`` to ``path`` atomically (temporary file, fsync, rename)."""
+    """Write ``data`` to ``path`` atomically (temporary file, fsync, rename).
+
+    The file gets the permissions of the user's umask (0644 under umask 022). A failure of
+    the file system (disk full, read-only, no such folder) raises ``InputError`` naming the
+    file and the cause; any previous file at ``path`` is left as it was.
+    """
     target = Path(path)
     folder = target.parent if str(target.parent) else Path(".")
     try:
@@ -32,14 +48,16 @@ def write_bytes_atomic(path: str | Path, data: bytes) -> Path:
     except OSError as exc:
         raise InputError(f"{folder}: cannot write here: {exc.strerror}") from None
     try:
-        umask = os.umask(0)
-        os.umask(umask)
-        os.chmod(tmp, 0o666 & ~umask)
         with os.fdopen(fd, "wb") as fh:
+            os.fchmod(fh.fileno(), 0o666 & ~current_umask())
             fh.write(data)
             fh.flush()
             os.fsync(fh.fileno())
         os.replace(tmp, target)
+    except OSError as exc:
+        Path(tmp).unlink(missing_ok=True)
+        raise InputError(f"{target}: cannot write: {exc.strerror}; any previous file is "
+                         "unchanged") from None
     except BaseException:
         Path(tmp).unlink(missing_ok=True)
         raise

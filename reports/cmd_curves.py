@@ -4,15 +4,15 @@ from __future__ import annotations
 
 import argparse
 import csv
+import io
 import math
-import os
 import sys
-import tempfile
 from collections.abc import Sequence
 from pathlib import Path
 
 from networks.curves import KINDS, Curve, CurveOptions, extract_curves
 from networks.reader import read_network
+from reports.atomic import write_text_atomic
 from reports.text_table import format_table
 from vehicles.errors import InputError
 
@@ -119,20 +119,15 @@ def print_summary(net_path: Path, rows: Sequence[dict[str, str]], limit: int) ->
 
 
 def write_csv_atomic(path: Path, rows: Sequence[dict[str, str]]) -> None:
-    """Write rows as CSV to a temporary file next to ``path``, then rename it into place."""
+    """Write rows as CSV atomically (:func:`reports.atomic.write_text_atomic`)."""
     directory = path.resolve().parent
     if not directory.is_dir():
         raise InputError(f"{path}: the directory {directory} does not exist")
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=directory)
-    try:
-        with os.fdopen(fd, "w", newline="", encoding="utf-8") as fh:
-            writer = csv.DictWriter(fh, fieldnames=COLUMNS)
-            writer.writeheader()
-            writer.writerows(rows)
-        os.replace(tmp, path)
-    except BaseException:
-        Path(tmp).unlink(missing_ok=True)
-        raise
+    buf = io.StringIO(newline="")
+    writer = csv.DictWriter(buf, fieldnames=COLUMNS)
+    writer.writeheader()
+    writer.writerows(rows)
+    write_text_atomic(path, buf.getvalue())
 
 
 if __name__ == "__main__":  # pragma: no cover

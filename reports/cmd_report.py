@@ -2,17 +2,15 @@
 
 With no arguments it runs the default study: the bundled sample networks and vehicle
 tables, output under ``reports/out/``. Everything is written into a fresh folder beside the
-output folder and swapped in at the end, so an interrupted run leaves the previous report
-intact.
+output folder and swapped in at the end in one atomic step (:mod:`reports.output_dir`), so
+an interrupted or failing run leaves the previous report intact. An existing folder is
+replaced only when it is a previous report (:data:`LAYOUT`); anything else is refused.
 """
 
 from __future__ import annotations
 
 import argparse
 import logging
-import os
-import shutil
-import tempfile
 import time
 from pathlib import Path
 
@@ -29,10 +27,10 @@ from reports.options import (
     add_waivers_option,
     selection_of,
 )
-from reports.study import METHODS, VERDICT_ORDER, Study, run_study
+from reports.output_dir import Layout, output_folder
+from reports.study import COLUMNS, METHODS, VERDICT_ORDER, Study, run_study
 from reports.tables import clearance_csv, summary_json
 from reports.waivers import Waived, read_waivers, study_waivers
-from vehicles.errors import InputError
 from vehicles.table import bundled_table_paths, load_tables
 
 log = logging.getLogger(__name__)
@@ -40,6 +38,15 @@ log = logging.getLogger(__name__)
 #: The default study's output folder, relative to where the command runs (the repository's
 #: ``reports/`` folder when run from its root, as the README does).
 DEFAULT_OUTPUT = Path("reports") / "out"
+
+#: What a report writes into its folder (the folder it may replace holds nothing else).
+LAYOUT = Layout(
+    "report",
+    files=frozenset({"clearance.csv", "summary.json", "report.md", "report.html",
+                     "swept.geojson", "swept.add.xml", "swept.dxf"}),
+    folders={"figures": (".png", ".svg"), "fcd": (".xml",)},
+    signature=("clearance.csv", ",".join(COLUMNS[:4])),
+)
 
 
 def sample_networks() -> list[Path]:
@@ -101,19 +108,6 @@ def write_report(study: Study, folder: Path, tables: list[Path], units: str = "m
     write_dxf(folder / "swept.dxf", records)
 
 
-def swap_in(new: Path, target: Path) -> None:
-    """Replace ``target`` by the folder ``new``; the old report survives until the end."""
-    old = None
-    if target.exists():
-        if not target.is_dir():
-            raise InputError(f"{target}: exists and is not a folder")
-        old = target.with_name(f".{target.name}.old-{os.getpid()}")
-        os.replace(target, old)
-    os.replace(new, target)
-    if old is not None:
-        shutil.rmtree(old, ignore_errors=True)
-
-
 def run(args: argparse.Namespace) -> int:
     t0 = time.perf_counter()
     nets = [Path(n) for n in args.net] if args.net else sample_networks()
@@ -125,19 +119,13 @@ def run(args: argparse.Namespace) -> int:
         names = load_tables(tables).names if args.vehicle else table.names
         waivers = read_waivers(Path(args.waivers), names)
     target = Path(args.output) if args.output else DEFAULT_OUTPUT
-    target.parent.mkdir(parents=True, exist_ok=True)
-    tmp = Path(tempfile.mkdtemp(prefix=f".{target.name}.new-", dir=target.parent))
-    try:
-        fcd = tmp / "fcd" if args.fcd else None
+    with output_folder(target, LAYOUT) as staging:
+        fcd = staging / "fcd" if args.fcd else None
         study = run_study(nets, table, args.method, args.clearance, fcd_dir=fcd,
                           workers=args.workers, scheduler=args.scheduler,
                           selection=selection)
         waived = study_waivers(study.frame(), waivers) if waivers is not None else None
-        write_report(study, tmp, tables, args.units, waived)
-        swap_in(tmp, target)
-    except BaseException:
-        shutil.rmtree(tmp, ignore_errors=True)
-        raise
+        write_report(study, staging, tables, args.units, waived)
     frame = study.frame()
     counts = frame.verdict.value_counts()
     print(f"{len(frame)} runs ({len(table)} vehicles, {len(nets)} networks, "

@@ -2,7 +2,10 @@
 
 Each vehicle x curve run follows the curve's centre line with its kinematic model, is
 replayed in libsumo (:mod:`networks.driver`), and gets an envelope and a verdict. With
-``-o DIR`` it writes, atomically and byte-identically for identical inputs:
+``-o DIR`` it writes, byte-identically for identical inputs, into a fresh folder swapped in
+for ``DIR`` in one atomic step when everything is written (:mod:`reports.output_dir`: a
+failing or interrupted run leaves the previous output as it was, and an existing ``DIR``
+is replaced only when it is an earlier simulate output, :data:`LAYOUT`):
 
 ``DIR/results.csv``
     One row per run (:data:`RESULT_COLUMNS`), lengths in metres.
@@ -11,8 +14,9 @@ replayed in libsumo (:mod:`networks.driver`), and gets an envelope and a verdict
     projection, in its local plane coordinates (metres) otherwise, as the file says
     (:func:`reports.export_geojson.write_geojson`).
 ``DIR/trajectories/<vehicle>__<curve>.csv``
-    The model's states of each run (:data:`TRAJECTORY_COLUMNS`); file names keep letters,
-    digits, ``.``, ``-`` and ``_`` (anything else becomes ``_``).
+    The model's states of each run (:data:`TRAJECTORY_COLUMNS`), named by
+    :func:`reports.file_names.file_name` (letters, digits, ``.``, ``-`` and ``_``; a short
+    hash of the ids when anything else was replaced or the name would be too long).
 ``DIR/fcd.xml`` and ``DIR/replay.sumocfg`` (with ``--fcd``)
     SUMO's FCD output and a configuration to replay it in sumo-gui (the command is printed).
 """
@@ -21,12 +25,10 @@ from __future__ import annotations
 
 import argparse
 import csv
-import hashlib
 import io
 import math
-import os
-import re
 from collections.abc import Iterable, Sequence
+from contextlib import nullcontext
 from dataclasses import replace
 from pathlib import Path
 
@@ -47,6 +49,7 @@ from networks.selection import check_junctions, load_selected
 from reports.atomic import write_text_atomic
 from reports.export_geojson import write_geojson
 from reports.exports import EnvelopeRecord
+from reports.file_names import file_name
 from reports.options import (
     add_clearance_option,
     add_selection_options,
@@ -54,6 +57,7 @@ from reports.options import (
     add_vehicle_option,
     selection_of,
 )
+from reports.output_dir import Layout, output_folder
 from reports.study import network_name
 from reports.text_table import format_table
 from vehicles.errors import InputError
@@ -79,6 +83,14 @@ RESULT_COLUMNS = (
 TRAJECTORY_COLUMNS = ("t_s", "s_m", "x_m", "y_m", "theta_rad", "phi_rad", "xf_m", "yf_m",
                       "error_m", "speed_m_s")
 TRAILER_COLUMNS = ("xt_m", "yt_m", "theta_t_rad", "psi_rad")
+
+#: What simulate writes into its output folder (the folder it may replace holds nothing else).
+LAYOUT = Layout(
+    "simulate",
+    files=frozenset({"results.csv", "envelopes.geojson", "fcd.xml", "replay.sumocfg"}),
+    folders={"trajectories": (".csv",)},
+    signature=("results.csv", ",".join(RESULT_COLUMNS[:4])),
+)
 
 
 def add_parser(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParser:
@@ -130,36 +142,37 @@ def run(args: argparse.Namespace) -> int:
         raise InputError("--fcd needs SUMO; drop --no-sumo")
     table = load_tables(args.table, list(dict.fromkeys(args.vehicle)))
     vehicles = [table.vehicle(n) for n in dict.fromkeys(args.vehicle)]
-    net = read_network(args.net)
-    selection = replace(selection_of(args), kinds=tuple(dict.fromkeys(args.kind or KINDS)))
-    if selection.junctions:
-        check_junctions(selection.junctions, [net])
-    curves = select_curves(load_selected(net, selection), args.curve)
-    if not curves:
-        raise InputError(f"{args.net}: no curve passes the selection ({selection.describe()})")
-    fcd = args.output / "fcd.xml" if args.fcd else None
-    fcd_tmp = None
-    if fcd is not None:
-        fcd.parent.mkdir(parents=True, exist_ok=True)
-        fcd_tmp = fcd.with_name(".fcd.xml.tmp")  # SUMO writes here; renamed when complete
     settings = TrackingSettings()
     options = DriveOptions(batch_size=args.batch, offset_m=args.clearance,
-                           use_sumo=not args.no_sumo, fcd_output=fcd_tmp,
-                           sumo_step_s=args.sumo_step)
+                           use_sumo=not args.no_sumo, sumo_step_s=args.sumo_step)
     options.samples_per_step(settings.dt_s)  # a step that does not fit: exit 2 before work
-    runs = drive(net, [(v, c) for v in vehicles for c in curves], settings, options)
-    if fcd is not None and fcd_tmp is not None:
-        os.replace(fcd_tmp, fcd)
-    rows = [result_row(r) for r in runs]
-    print_summary(rows, args.limit)
+    # the output folder is checked and locked before the network is read
+    folder = output_folder(args.output, LAYOUT) if args.output is not None else nullcontext()
+    with folder as staging:
+        net = read_network(args.net)
+        selection = replace(selection_of(args), kinds=tuple(dict.fromkeys(args.kind or KINDS)))
+        if selection.junctions:
+            check_junctions(selection.junctions, [net])
+        curves = select_curves(load_selected(net, selection), args.curve)
+        if not curves:
+            raise InputError(f"{args.net}: no curve passes the selection "
+                             f"({selection.describe()})")
+        if staging is not None and args.fcd:
+            options = replace(options, fcd_output=staging / "fcd.xml")
+        runs = drive(net, [(v, c) for v in vehicles for c in curves], settings, options)
+        rows = [result_row(r) for r in runs]
+        print_summary(rows, args.limit)
+        if staging is not None:
+            write_outputs(staging, runs, rows, net)
+            if args.fcd:
+                write_text_atomic(staging / "replay.sumocfg",
+                                  replay_config(Path(net.path).resolve(),
+                                                options.samples_per_step(settings.dt_s)
+                                                * settings.dt_s))
     if args.output is not None:
-        write_outputs(args.output, runs, rows, net)
-        if fcd is not None:
-            config = write_text_atomic(args.output / "replay.sumocfg",
-                                       replay_config(Path(net.path).resolve(),
-                                                     options.samples_per_step(settings.dt_s)
-                                                     * settings.dt_s))
-            print("replay in sumo-gui: " + REPLAY_COMMAND.format(config=config, fcd=fcd))
+        if args.fcd:
+            print("replay in sumo-gui: " + REPLAY_COMMAND.format(
+                config=args.output / "replay.sumocfg", fcd=args.output / "fcd.xml"))
         print(f"wrote {len(rows)} run(s) to {args.output}")
     return 0
 
@@ -203,32 +216,9 @@ def csv_text(rows: Iterable[dict[str, str]], columns: Sequence[str]) -> str:
     return buf.getvalue()
 
 
-def safe_name(text: str) -> str:
-    """A file-name-safe version of ``text``.
-
-    Examples
-    --------
-    >>> safe_name("turn:X:XN_in_0->XW_out_0")
-    'turn_X_XN_in_0-_XW_out_0'
-    >>> safe_name("2008 Chrysler Town & Country")
-    '2008_Chrysler_Town___Country'
-    """
-    return re.sub(r"[^A-Za-z0-9._-]", "_", text).strip(".") or "_"
-
-
 def trajectory_files(runs: Sequence[DrivenRun]) -> list[str]:
-    """``<vehicle>__<curve>.csv`` for each run, unique (a short hash resolves clashes)."""
-    names = [f"{safe_name(r.vehicle.name)}__{safe_name(r.curve.curve_id)}" for r in runs]
-    seen: dict[str, int] = {}
-    for n in names:
-        seen[n] = seen.get(n, 0) + 1
-    out = []
-    for n, r in zip(names, runs, strict=True):
-        if seen[n] > 1:
-            key = f"{r.vehicle.name}\0{r.curve.curve_id}".encode()
-            n = f"{n}-{hashlib.sha1(key).hexdigest()[:8]}"
-        out.append(n + ".csv")
-    return out
+    """``<vehicle>__<curve>.csv`` for each run (:func:`reports.file_names.file_name`)."""
+    return [file_name([r.vehicle.name, r.curve.curve_id], ".csv") for r in runs]
 
 
 def trajectory_csv(r: DrivenRun) -> str:

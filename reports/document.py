@@ -17,7 +17,8 @@ from pathlib import Path
 
 import pandas as pd
 
-from reports.figures import COLOURS, figure_name, plot_curve, plot_network, worst_by_curve
+from reports.figures import COLOURS, plot_curve, plot_network, worst_by_curve
+from reports.file_names import file_name
 from reports.study import VERDICT_ORDER, Study
 from reports.units import length_scale
 from reports.waivers import Waived
@@ -53,6 +54,9 @@ def build_sections(study: Study, folder: Path, units: str = "m",
                    waived: Waived | None = None) -> list[Section]:
     """Draw every figure under ``folder/figures`` and collect what the documents show.
 
+    Figures are named by :func:`reports.file_names.file_name`: ``<network>__plan`` and
+    ``<network>__curve__<curve id>`` (with a short hash where the id needed changing).
+
     Margins shown in the matrix and captions are in ``units``. With ``waived``, each
     section counts and lists its waived runs, and their matrix cells are marked.
     """
@@ -62,7 +66,8 @@ def build_sections(study: Study, folder: Path, units: str = "m",
     sections = []
     for nc in study.networks:
         f = frame[frame.network == nc.name]
-        plan = plot_network(nc, f, figs / f"{nc.name}_plan")[0]
+        # stems: plotting.save appends .png and .svg
+        plan = plot_network(nc, f, figs / file_name([nc.name, "plan"], room=4))[0]
         worst = worst_by_curve(f)
         counts = {v: int((f.verdict == v).sum()) for v in sorted(VERDICT_ORDER,
                                                                    key=VERDICT_ORDER.get)
@@ -93,7 +98,7 @@ def build_sections(study: Study, folder: Path, units: str = "m",
             recs = [r for r in study.records if r.network == nc.name and r.curve_id == cid]
             recs.sort(key=lambda r: (VERDICT_ORDER[r.verdict], r.margin_m))
             shown = pick_envelopes(recs)
-            stem = figs / f"{nc.name}_{figure_name(cid)}"
+            stem = figs / file_name([nc.name, "curve", cid], room=4)
             png = plot_curve(nc, by_id[cid], shown, stem)[0]
             caption = ", ".join(f"{r.vehicle} {r.verdict} ({r.margin_m / scale:+.2f} {units})"
                                 for r in shown)

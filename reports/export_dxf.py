@@ -3,6 +3,11 @@
 Each envelope part is a closed LWPOLYLINE for its exterior and one for each hole, coloured by
 verdict (AutoCAD colour index), with the record's attributes in XDATA (application
 ``SUMO_CLEARANCE``) and the curve id as a TEXT at a point inside the part.
+
+Identical records give a byte-identical file, like the CSV, JSON and GeoJSON outputs: the
+drawing carries no clock time and no random GUID (ezdxf's fixed metadata: dates of
+2000-01-01, the null GUID, no timestamp in its own marker) and its CLASSES section is in a
+fixed order (ezdxf adds the classes in use from a set, whose order varies between runs).
 """
 
 from __future__ import annotations
@@ -10,7 +15,9 @@ from __future__ import annotations
 import io
 import os
 import re
-from collections.abc import Iterable
+from collections import OrderedDict
+from collections.abc import Iterable, Iterator
+from contextlib import contextmanager
 from pathlib import Path
 
 import ezdxf
@@ -75,7 +82,8 @@ def write_dxf(path: str | os.PathLike[str], records: Iterable[EnvelopeRecord]) -
         A bad record (see :func:`reports.exports.checked_records`); the message names it.
     """
     recs = checked_records(records)
-    doc = ezdxf.new("R2010", setup=False)
+    with _fixed_metadata():
+        doc = ezdxf.new("R2010", setup=False)
     doc.header["$INSUNITS"] = 6
     doc.header["$MEASUREMENT"] = 1
     doc.appids.add(APPID)
@@ -117,6 +125,25 @@ def write_dxf(path: str | os.PathLike[str], records: Iterable[EnvelopeRecord]) -
             text.set_placement((p.x, p.y), align=TextEntityAlignment.MIDDLE_CENTER)
             text.set_xdata(APPID, tags)
 
+    return write_text_atomic(path, _reproducible_text(doc))
+
+
+@contextmanager
+def _fixed_metadata() -> Iterator[None]:
+    """ezdxf writes fixed dates and GUIDs meanwhile (its option for reproducible files)."""
+    previous = ezdxf.options.write_fixed_meta_data_for_testing
+    ezdxf.options.write_fixed_meta_data_for_testing = True
+    try:
+        yield
+    finally:
+        ezdxf.options.write_fixed_meta_data_for_testing = previous
+
+
+def _reproducible_text(doc: ezdxf.document.Drawing) -> str:
+    """The DXF text of ``doc``, the same bytes for the same content."""
+    doc.classes.add_required_classes(doc.dxfversion)
+    doc.classes.classes = OrderedDict(sorted(doc.classes.classes.items()))
     stream = io.StringIO()
-    doc.write(stream)
-    return write_text_atomic(path, stream.getvalue())
+    with _fixed_metadata():
+        doc.write(stream)
+    return stream.getvalue()

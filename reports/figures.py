@@ -167,17 +167,3 @@ def plot_curve(nc: NetworkCurves, curve: Curve, records: list[RunRecord], stem: 
     ax.legend(handles=handles, loc="upper center", bbox_to_anchor=(0.5, -0.1), ncol=2,
               fontsize=7, frameon=False)
     return save(fig, stem)
-
-
-def figure_name(text: str) -> str:
-    """A file-name-safe version of a curve id.
-
-    Examples
-    --------
-    >>> figure_name("turn:X:XE_in_0->XN_out_0")
-    'turn_X_XE_in_0-XN_out_0'
-    """
-    out = []
-    for ch in text.replace("->", "-"):
-        out.append(ch if ch.isalnum() or ch in "-_." else "_")
-    return "".join(out)

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import csv
 import gzip
+import os
 from pathlib import Path
 
 import pytest
@@ -112,3 +113,13 @@ def test_truncated_gzip_exits_2(tee_net, tmp_path, capsys):
 def test_output_into_missing_directory_exits_2(tee_net, tmp_path, capsys):
     assert main(["curves", "-n", str(tee_net), "-o", str(tmp_path / "no" / "x.csv")]) == 2
     assert "does not exist" in capsys.readouterr().err
+
+
+def test_output_csv_gets_the_permissions_of_the_umask(tee_net, tmp_path):
+    mask = os.umask(0o022)
+    try:
+        assert main(["curves", "-n", str(tee_net), "-o", str(tmp_path / "c.csv")]) == 0
+    finally:
+        os.umask(mask)
+    assert os.stat(tmp_path / "c.csv").st_mode & 0o777 == 0o644  # mkstemp alone gave 0600
+    assert not list(tmp_path.glob(".*.tmp"))

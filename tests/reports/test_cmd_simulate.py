@@ -12,6 +12,7 @@ import pytest
 from networks.samples import build as samples
 from reports import cmd_simulate
 from reports.cli import main
+from reports.file_names import file_name
 from vehicles.table import bundled_table
 
 pytest.importorskip("libsumo")
@@ -61,7 +62,7 @@ def test_outputs_are_byte_identical_between_runs(outputs):
         assert (a / name).read_bytes() == (b / name).read_bytes(), name
     files = sorted(p.name for p in (a / "trajectories").iterdir())
     assert files == sorted(p.name for p in (b / "trajectories").iterdir())
-    assert len(files) == 4 and "CITY-BUS__turn_X_XN_in_0-_XW_out_0.csv" in files
+    assert len(files) == 4 and "CITY-BUS__turn_X_XN_in_0-_XW_out_0~f63c83019f58a091.csv" in files
     for f in files:
         assert (a / "trajectories" / f).read_bytes() == (b / "trajectories" / f).read_bytes()
 
@@ -80,7 +81,8 @@ def test_geojson_envelopes_in_local_metres(outputs):
 
 
 def test_trajectory_csv_starts_on_the_centre_line(outputs):
-    text = (outputs[0] / "trajectories" / "P__turn_X_XN_in_0-_XW_out_0.csv").read_text()
+    name = file_name(["P", CURVES[0]], ".csv")
+    text = (outputs[0] / "trajectories" / name).read_text()
     lines = text.splitlines()
     assert lines[0].split(",")[:4] == ["t_s", "s_m", "x_m", "y_m"]
     first = dict(zip(lines[0].split(","), map(float, lines[1].split(",")), strict=True))
@@ -146,18 +148,13 @@ def test_missing_network_exits_2(tmp_path, capsys):
 
 
 def test_trajectory_file_names_are_safe_and_unique():
-    assert cmd_simulate.safe_name("a/b:c") == "a_b_c"
-    assert cmd_simulate.safe_name("..") == "_"
     runs = [SimpleNamespace(vehicle=SimpleNamespace(name=n), curve=SimpleNamespace(curve_id=c))
-            for n, c in (("a b", "turn:J"), ("a_b", "turn:J"), ("car", "turn:J"))]
+            for n, c in (("a b", "turn:J"), ("a_b", "turn_J"), ("car", "bend7"),
+                         ("car", ".."))]
     names = cmd_simulate.trajectory_files(runs)
-    assert len(set(names)) == 3
-    assert names[2] == "car__turn_J.csv"
-    assert names[0].startswith("a_b__turn_J-") and names[0].endswith(".csv")
+    assert len(set(names)) == 4
+    assert names[2] == "car__bend7.csv"  # nothing to change: the ids themselves
+    assert names[0].startswith("a_b__turn_J~") and names[0].endswith(".csv")
+    assert names[1] == "a_b__turn_J.csv"  # "a_b", "turn_J" as they are; "a b" was changed
+    assert names[3].startswith("car__") and "/" not in names[3]
 
-
-def test_docstring_examples():
-    import doctest
-
-    failures, tried = doctest.testmod(cmd_simulate)
-    assert tried >= 2 and failures == 0

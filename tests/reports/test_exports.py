@@ -2,12 +2,14 @@
 
 from __future__ import annotations
 
+import datetime
 import doctest
 import importlib
 import json
 import math
 import os
 import subprocess
+import sys
 from pathlib import Path
 
 import ezdxf
@@ -287,6 +289,37 @@ def test_dxf_reopens_with_layers_and_vertices(tmp_path: Path):
             assert len(match) == 1
         texts = [t.dxf.text for t in msp.query(f'TEXT[layer=="{layer}"]')]
         assert rec.curve_id in texts
+
+
+DXF_SCRIPT = """
+import sys
+sys.path.insert(0, sys.argv[2])
+from test_exports import records
+from reports.exports import write_dxf
+write_dxf(sys.argv[1], records())
+"""
+
+
+def test_dxf_is_byte_identical_for_identical_inputs(tmp_path: Path):
+    # Two processes with different string hashing (ezdxf collects the classes in use in a
+    # set) at different clock times: the same bytes, and an audit finds nothing.
+    here = str(Path(__file__).resolve().parent)
+    files = []
+    for seed in ("1", "2"):
+        out = tmp_path / f"swept{seed}.dxf"
+        env = dict(os.environ, PYTHONHASHSEED=seed)
+        subprocess.run([sys.executable, "-c", DXF_SCRIPT, str(out), here], check=True,
+                       env=env, timeout=120)
+        files.append(out.read_bytes())
+    assert files[0] == files[1]
+    text = files[0].decode("utf-8")
+    assert "{00000000-0000-0000-0000-000000000000}" in text  # no random GUID
+    assert f"{datetime.date.today().year}-" not in text  # no clock time
+    doc = ezdxf.readfile(tmp_path / "swept1.dxf")
+    auditor = doc.audit()
+    assert not auditor.has_errors and not auditor.has_fixes
+    assert len(doc.modelspace().query("LWPOLYLINE")) == 5  # 2 parts + turn + ring and hole
+    assert [c.dxf.name for c in doc.classes] == sorted(c.dxf.name for c in doc.classes)
 
 
 def test_dxf_layer_names_are_sanitised():

@@ -4,6 +4,7 @@ import csv
 import json
 import os
 import re
+import shutil
 import subprocess
 from pathlib import Path
 
@@ -115,6 +116,8 @@ def test_sumo_loads_the_polygons(report):
 
 def test_dxf_reopens_with_a_layer_per_vehicle(report):
     doc = ezdxf.readfile(report / "swept.dxf")
+    auditor = doc.audit()
+    assert not auditor.has_errors and not auditor.has_fixes
     layers = {layer.dxf.name for layer in doc.layers}
     assert {"P", "CITY-BUS"} <= layers
     assert len(doc.modelspace().query("LWPOLYLINE")) >= 2
@@ -123,20 +126,58 @@ def test_dxf_reopens_with_a_layer_per_vehicle(report):
 def test_identical_inputs_give_identical_files(report, tmp_path):
     again = tmp_path / "again"
     assert run_report(again) == 0
-    for name in ("clearance.csv", "summary.json", "swept.geojson"):
+    for name in ("clearance.csv", "summary.json", "swept.geojson", "swept.dxf"):
         assert (again / name).read_bytes() == (report / name).read_bytes(), name
 
 
-def test_an_interrupted_run_leaves_the_previous_report(report, tmp_path, capsys):
+def test_a_failing_run_leaves_the_previous_report(report, tmp_path, capsys):
     out = tmp_path / "kept"
-    out.mkdir()
-    (out / "clearance.csv").write_text("previous\n")
+    shutil.copytree(report, out)
+    before = {p.relative_to(out): p.read_bytes() for p in out.rglob("*") if p.is_file()}
     bad = tmp_path / "broken.net.xml"
     bad.write_text("<net><edge id='e'><lane id='e_0' shape='0,0 1,")  # truncated
     assert main(["report", "-n", str(bad), "-o", str(out), "--vehicle", "P"]) == 2
     assert "broken.net.xml" in capsys.readouterr().err
-    assert (out / "clearance.csv").read_text() == "previous\n"
+    after = {p.relative_to(out): p.read_bytes() for p in out.rglob("*") if p.is_file()}
+    assert after == before and Path(".clearance-report") in after
     assert sorted(p.name for p in tmp_path.iterdir()) == ["broken.net.xml", "kept"]
+
+
+def test_a_folder_that_is_not_a_report_is_refused(tmp_path, capsys):
+    # the issue's case: a report over a folder of one's own deleted its files
+    mine = tmp_path / "d"
+    mine.mkdir()
+    (mine / "thesis.txt").write_text("x")
+    assert run_report(mine) == 2
+    err = capsys.readouterr().err
+    assert str(mine) in err and "thesis.txt" in err and "Traceback" not in err
+    assert [p.name for p in mine.iterdir()] == ["thesis.txt"]
+    assert (mine / "thesis.txt").read_text() == "x"
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["d"]
+
+
+def test_a_report_replaces_its_own_report_and_one_from_before_markers(report, tmp_path):
+    # a report folder as this tool wrote it before markers: its files, no marker
+    old = tmp_path / "old"
+    shutil.copytree(report, old)
+    (old / ".clearance-report").unlink()
+    (old / "summary.json").write_text("{}")
+    os.chmod(old, 0o700)  # as mkdtemp left it
+    mask = os.umask(0o022)
+    try:
+        assert run_report(old) == 0
+    finally:
+        os.umask(mask)
+    assert (old / "summary.json").read_bytes() == (report / "summary.json").read_bytes()
+    assert (old / ".clearance-report").read_text().startswith("clearance report output")
+    # the ordinary permissions of umask 022, folders and files alike
+    assert os.stat(old).st_mode & 0o777 == 0o755
+    assert os.stat(old / "figures").st_mode & 0o777 == 0o755
+    for f in ("clearance.csv", "report.html", "swept.dxf", ".clearance-report"):
+        assert os.stat(old / f).st_mode & 0o777 == 0o644, f
+    pngs = list((old / "figures").glob("*.png"))
+    assert pngs and all(os.stat(p).st_mode & 0o777 == 0o644 for p in pngs)
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["old"]
 
 
 def test_analytic_method_and_feet(tmp_path):
