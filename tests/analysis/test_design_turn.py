@@ -5,9 +5,13 @@ import math
 import numpy as np
 import pandas as pd
 import pytest
+import shapely
 
 from analysis.design_turn import design_turn_inside_radius
+from analysis.envelope import swept_path
+from analysis.tracking import TrackingSettings, simulate_batch
 from analysis.turning import full_lock_metrics
+from reports.templates import template_path
 from vehicles.errors import InputError
 from vehicles.table import bundled_table, load_tables
 
@@ -118,3 +122,20 @@ def test_bad_arguments_are_input_errors():
         design_turn_inside_radius(car(), angle_deg=0.0)
     with pytest.raises(InputError, match="lacks min_radius_m"):
         design_turn_inside_radius(car().drop(columns="min_radius_m"))
+
+
+def test_agrees_with_the_tracking_controller_driving_the_same_arc():
+    # An independent route to the same number: the Stanley controller of analysis/tracking.py
+    # drives the steered axle along the arc (within 0.02 ft here) and the swept envelope's
+    # distance from the arc's centre is the inside radius.
+    table = load_tables([bundled_table("aashto_green_book")], ["CITY-BUS", "WB-62", "A-BUS"])
+    vehicles = table.vehicles()
+    ctr = [math.hypot(v.min_radius_m, v.wheelbase_m) for v in vehicles]
+    paths = [template_path(r, 180.0, v.overall_length_m + 5.0) for v, r in
+             zip(vehicles, ctr, strict=True)]
+    runs = simulate_batch(vehicles, paths, TrackingSettings(tolerance_m=1.0))
+    ours = design_turn_inside_radius(table.frame).inside_radius_m
+    for run, r, mine in zip(runs, ctr, ours, strict=True):
+        assert run.followed
+        tracked = shapely.distance(shapely.Point(0.0, r), swept_path(run).envelope)
+        assert tracked / FT == pytest.approx(mine / FT, abs=0.1)
