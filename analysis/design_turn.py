@@ -52,7 +52,21 @@ _FRAME_COLUMNS = ("wheelbase_m", "width_m", "front_overhang_m", "rear_overhang_m
 def _inner_side_distance(cx: FloatArray, cy: FloatArray, ax: FloatArray, ay: FloatArray,
                          bx: FloatArray, by: FloatArray, nx: FloatArray, ny: FloatArray
                          ) -> FloatArray:
-    """Signed distance from ``(cx, cy)`` to the segment A-B; negative past it along ``n``."""
+    """Signed distance from ``(cx, cy)`` to the segment A-B; negative past it along ``n``.
+
+    ``n`` is the segment's normal pointing away from the body, toward the centre; the
+    distance is negative where the point lies abreast of the segment on the body's side.
+
+    Examples
+    --------
+    >>> z, o = np.zeros(1), np.ones(1)
+    >>> float(_inner_side_distance(z, 3 * o, -o, z, o, z, z, o)[0])      # 3 m inboard
+    3.0
+    >>> float(_inner_side_distance(z, -o, -o, z, o, z, z, o)[0])         # under the body
+    -1.0
+    >>> float(_inner_side_distance(z, z, -o, z, o, z, z, o)[0])          # on the side itself
+    0.0
+    """
     dx, dy = bx - ax, by - ay
     qx, qy = cx - ax, cy - ay
     t = (qx * dx + qy * dy) / (dx * dx + dy * dy)
