@@ -133,9 +133,15 @@ def full_lock_metrics(frame: pd.DataFrame) -> pd.DataFrame:
     Returns a frame (same index) with ``max_steer_rad, outer_steer_rad,
     ackermann_angle_rad, min_radius_m`` (rho at lock), ``ctr_m, curb_to_curb_m,
     wall_to_wall_m, inside_radius_m, swept_width_m, offtracking_m``, and, where a row has a
-    towed unit, ``trailer_articulation_rad, articulation_limited, trailer_radius_m,
-    trailer_inside_radius_m, trailer_offtracking_m, combination_swept_width_m`` (NaN
-    elsewhere). Vectorised: a million rows take well under a second.
+    towed unit, ``steady_state, trailer_articulation_rad, articulation_limited,
+    trailer_radius_m, trailer_inside_radius_m, trailer_offtracking_m,
+    combination_inside_radius_m, combination_swept_width_m`` (NaN elsewhere).
+    ``articulation_limited``: the steady state at full lock does not exist or exceeds the
+    maximum articulation, so the steady columns are those of the tightest radius the
+    articulation allows. ``steady_state`` is false, and the steady trailer columns NaN,
+    where even that has none: no trailer-axle circle, or a trailer body that would pass
+    over the turn's centre (:mod:`analysis.design_turn` gives such a combination's inside
+    radius in a real, transient turn). Vectorised: a million rows take well under a second.
 
     Examples
     --------
@@ -203,14 +209,19 @@ def _trailer_metrics(frame: pd.DataFrame, out: pd.DataFrame, rho: FloatArray,
     outer_tail = np.hypot(r_t + bt / 2, a_tr)
     outer = np.fmax(outer_tractor, np.fmax(outer_nose, outer_tail))
     inside = np.fmin(rho_eff - B / 2, r_t - bt / 2)
+    # No steady state: the trailer axle's circle does not exist, or the trailer body would
+    # sweep over the centre (the jackknife the articulation limit stops at, e.g. a WB-62
+    # at full lock, whose trailer wheelbase is longer than the kingpin's radius).
+    steady = has & np.isfinite(r_t) & (r_t - bt / 2 >= 0)
     nan = np.nan
-    out["trailer_articulation_rad"] = np.where(has, psi, nan)
+    out["steady_state"] = steady | ~has
+    out["trailer_articulation_rad"] = np.where(steady, psi, nan)
     out["articulation_limited"] = limited
-    out["trailer_radius_m"] = np.where(has, r_t, nan)
-    out["trailer_inside_radius_m"] = np.where(has, r_t - bt / 2, nan)
-    out["trailer_offtracking_m"] = np.where(has, ctr_eff - r_t, nan)
-    out["combination_inside_radius_m"] = np.where(has, inside, nan)
-    out["combination_swept_width_m"] = np.where(has, outer - inside, nan)
+    out["trailer_radius_m"] = np.where(steady, r_t, nan)
+    out["trailer_inside_radius_m"] = np.where(steady, r_t - bt / 2, nan)
+    out["trailer_offtracking_m"] = np.where(steady, ctr_eff - r_t, nan)
+    out["combination_inside_radius_m"] = np.where(steady, inside, nan)
+    out["combination_swept_width_m"] = np.where(steady, outer - inside, nan)
 
 
 def turning_metrics(table: VehicleTable) -> pd.DataFrame:

@@ -72,3 +72,27 @@ def test_unknown_vehicle_and_missing_table_exit_2(capsys):
     assert "unknown vehicle 'Batmobile'" in capsys.readouterr().err
     assert main(["vehicles", "-t", "/no/such/table.csv"]) == 2
     assert "/no/such/table.csv: no such vehicle table" in capsys.readouterr().err
+
+
+def test_combinations_show_the_180_degree_turn_and_no_steady_state(tmp_path, capsys):
+    out = tmp_path / "semis.csv"
+    names = ["WB-40", "WB-62", "WB-67", "P"]
+    args = ["vehicles", "-t", str(bundled_table("aashto_green_book")), "--units", "ft",
+            "-o", str(out)]
+    for n in names:
+        args += ["--vehicle", n]
+    assert main(args) == 0
+    printed = capsys.readouterr().out
+    lines = {line.split()[0]: line for line in printed.splitlines()[2:6]}
+    assert "no steady state" in lines["WB-62"] and "no steady state" in lines["WB-67"]
+    assert "no steady state" not in lines["WB-40"] and "-4.25" not in printed
+    rows = {r["vehicle"]: r for r in read(out)}
+    # Green Book minimum inside radii: WB-40 19.3, WB-62 7.4, P 14.4 ft
+    assert float(rows["WB-40"]["inside_radius_180"]) == pytest.approx(19.3, abs=0.15)
+    assert float(rows["WB-62"]["inside_radius_180"]) == pytest.approx(7.4, abs=0.15)
+    assert float(rows["P"]["inside_radius_180"]) == pytest.approx(14.4, abs=0.15)
+    assert float(rows["WB-67"]["inside_radius_180"]) < 3.0
+    assert rows["WB-62"]["steady_state"] == "False" and rows["WB-40"]["steady_state"] == "True"
+    assert rows["WB-62"]["combination_inside_radius"] == ""
+    assert float(rows["WB-40"]["combination_inside_radius"]) == pytest.approx(18.12, abs=0.01)
+    assert float(rows["WB-62"]["ctr"]) == pytest.approx(41.0, abs=0.05)
