@@ -29,6 +29,7 @@ from networks.driver import DrivenRun, DriveOptions, drive
 from networks.reader import Network, read_network
 from reports.analytic import minimum_ctr_m, run_analytic
 from reports.executor import SharedFile
+from reports.file_names import file_name
 from reports.records import RunRecord
 from vehicles.errors import InputError
 from vehicles.vehicle import Vehicle
@@ -210,7 +211,8 @@ def _simulated(batch: Batch, net: Network, items: Sequence[tuple[int, Curve]]
     fcd = None
     if batch.fcd_dir is not None:
         Path(batch.fcd_dir).mkdir(parents=True, exist_ok=True)
-        fcd = Path(batch.fcd_dir) / f"{batch.network}_{batch.index:03d}{batch.part}.fcd.xml"
+        fcd = Path(batch.fcd_dir) / file_name([batch.network, f"{batch.index:03d}{batch.part}"],
+                                              ".fcd.xml")
     options = DriveOptions(offset_m=batch.clearance_m, fcd_output=fcd)
     runs = drive(net, [(batch.vehicles[v], c) for v, c in items], options=options)
     return [_driven_record(batch, r) for r in runs]
