@@ -279,7 +279,10 @@ class _SumoSession:
         if self.options.fcd_output is not None:
             cmd += ["--fcd-output", os.fspath(self.options.fcd_output),
                     "--fcd-output.attributes", "x,y,z,angle,type,speed"]
-        self.traci.start(cmd)
+        try:
+            self.traci.start(cmd)
+        except self.traci.TraCIException as exc:  # SUMO refused the network or an option
+            raise InputError(f"{self.net_path}: SUMO cannot load the network: {exc}") from None
         self.move_to_xy = self.traci.vehicle.moveToXY
         self.get_position = self.traci.vehicle.getPosition
         self.vtypes.clear()
