@@ -126,7 +126,7 @@ def test_lock_of_90_degrees_or_more(tmp_path):
     p = write(tmp_path, HEADER + ",max_steer_deg\nA,car,m,4.5,1.8,2.7,0.9,test,95\n"
               "B,car,m,4.5,1.8,2.7,0.9,test,90\n")
     probs = problems_of(p)
-    assert len(probs) == 2 and all("90 degrees or more" in s for s in probs)
+    assert len(probs) == 2 and all("outside the range [1, 80] deg" in s for s in probs)
 
 
 def test_radius_lock_that_needs_more_than_90_degrees(tmp_path):
