@@ -64,13 +64,16 @@ def read_golden(path: Path) -> pd.DataFrame:
     missing = [c for c in GOLDEN_COLUMNS if c not in frame.columns]
     if missing:
         raise InputError(f"{path}: missing column(s) {', '.join(missing)}")
+    # the file's line of each row: pandas skips comment and blank lines
+    lines = [i for i, text in enumerate(path.read_text(encoding="utf-8").split("\n"), 1)
+             if text.split("#", 1)[0].strip()][1:]
     bad = frame[~frame.verdict.isin(list(VERDICT_ORDER))]
     if len(bad):
-        row = bad.index[0] + 2
+        row = lines[bad.index[0]]
         raise InputError(f"{path}:{row}: unknown verdict {bad.verdict.iloc[0]!r}")
     dupes = frame.duplicated(["network", "vehicle", "curve_id"])
     if dupes.any():
-        row = frame.index[dupes][0] + 2
+        row = lines[frame.index[dupes][0]]
         raise InputError(f"{path}:{row}: the same network, vehicle and curve twice")
     return frame[GOLDEN_COLUMNS]
 
