@@ -22,6 +22,7 @@ import networks.shapes
 from networks.reader import DEFAULT_LANE_WIDTH_M, read_network, resolve_allowed
 from networks.samples.sources import SAMPLES_DIR
 from networks.shapes import parse_shape, parse_shapes
+from tests.networks import damaged
 from vehicles.errors import InputError
 
 NODES = """
@@ -262,3 +263,24 @@ def test_connections_by_lane_whichever_index_is_made_first(first):
     for k in net.lanes:
         assert net.outgoing(k) == [c for c in net.connections if c.from_lane == k], k
         assert net.incoming(k) == [c for c in net.connections if c.to_lane == k], k
+
+
+@pytest.mark.parametrize("case", sorted(damaged.CASES))
+def test_damaged_networks_are_refused_naming_the_element(tmp_path, case):
+    # what SUMO itself refuses, and numbers outside their physical range
+    path, expected = damaged.damage(case, tmp_path)
+    with pytest.raises(InputError) as info:
+        read_network(path)
+    assert str(info.value).startswith(expected)
+
+
+def test_coordinates_within_the_bound_are_read_exactly(tmp_path):
+    # moved by 1e6 m (a UTM-sized offset): every point exactly 1e6 further, the curves alike
+    text = (SAMPLES_DIR / "intersection" / "intersection.net.xml").read_text()
+    p = tmp_path / "moved.net.xml"
+    p.write_text(damaged._offset_all(text, 1e6))
+    moved, plain = read_network(p), read_network(SAMPLES_DIR / "intersection" /
+                                                 "intersection.net.xml")
+    for lane_id, lane in plain.lanes.items():
+        np.testing.assert_allclose(moved.lanes[lane_id].shape[:, :2] - 1e6, lane.shape[:, :2],
+                                   atol=1e-9)
