@@ -295,13 +295,7 @@ def _number(col: Column, text: str, where: str, problems: list[str]) -> float | 
     if not math.isfinite(value):
         problems.append(f"{where}: column {col.name}: {text!r}: not a finite number")
         return None
-    if col.positive is True and value <= 0:
-        problems.append(f"{where}: column {col.name}: {text!r}: must be greater than zero")
-        return None
-    if col.positive == "nonneg" and value < 0:
-        problems.append(f"{where}: column {col.name}: {text!r}: must not be negative")
-        return None
-    return value
+    return value  # its range is checked by the caller (in SI units)
 
 
 def _check_range(col: Column, value_si: float, text: str, where: str, problems: list[str],

@@ -118,8 +118,9 @@ def test_not_a_number_negative_and_zero(tmp_path):
               "C,car,m,4.5,1.8,0,0.9,test,35\n")
     probs = problems_of(p)
     assert any(":2 (A): column width: 'wide': not a number" in s for s in probs)
-    assert any(":3 (B): column wheelbase: '-2.7': must be greater than zero" in s for s in probs)
-    assert any(":4 (C): column wheelbase: '0': must be greater than zero" in s for s in probs)
+    assert any(":3 (B): column wheelbase: '-2.7': outside the range [0.3, 20] m" in s
+               for s in probs)
+    assert any(":4 (C): column wheelbase: '0': outside the range [0.3, 20] m" in s for s in probs)
 
 
 def test_lock_of_90_degrees_or_more(tmp_path):
