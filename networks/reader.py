@@ -586,7 +586,11 @@ def check_references(path: Path, edges: dict[str, Edge], lanes: dict[str, Lane],
     code = {e: k for k, e in enumerate(edges)}
     of_edge = np.fromiter(map(code.__getitem__, map(attrgetter("edge"), lane_list)),
                           np.int64, len(lane_list))
-    given = np.fromiter(map(attrgetter("index"), lane_list), np.int64, len(lane_list))
+    try:
+        given = np.fromiter(map(attrgetter("index"), lane_list), np.int64, len(lane_list))
+    except OverflowError:
+        lane = next(ln for ln in lane_list if abs(ln.index) >= 2**63)
+        raise InputError(f"{path}: lane {lane.id!r}: index {lane.index} out of range") from None
     order = np.argsort(of_edge, kind="stable")
     grouped = of_edge[order]
     first = np.flatnonzero(np.concatenate(([True], grouped[1:] != grouped[:-1])))
@@ -606,8 +610,12 @@ def check_references(path: Path, edges: dict[str, Edge], lanes: dict[str, Lane],
 
         n_from = np.fromiter(map(lane_counts.get, column(0), repeat(-1)), np.int64, n)
         n_to = np.fromiter(map(lane_counts.get, column(1), repeat(-1)), np.int64, n)
-        i_from = np.fromiter(column(2), np.int64, n)
-        i_to = np.fromiter(column(3), np.int64, n)
+        try:
+            i_from = np.fromiter(column(2), np.int64, n)
+            i_to = np.fromiter(column(3), np.int64, n)
+        except OverflowError:
+            row = next(r for r in connections if max(abs(r[2]), abs(r[3])) >= 2**63)
+            _refuse_connection(path, row, lane_counts, lanes)
         bad = (i_from < 0) | (i_from >= n_from) | (i_to < 0) | (i_to >= n_to)
         missing = set(column(4)).difference(lanes)
         missing.discard(None)

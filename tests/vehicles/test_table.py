@@ -347,3 +347,67 @@ def test_a_name_or_a_table_given_twice_is_taken_once(tmp_path):
     t = load_tables([table, table, Path(str(table).replace("/tables/", "/tables/./"))],
                     ["P", "SU-30", "P"])
     assert t.names == ["P", "SU-30"]
+
+
+# -- generated malformed tables (hypothesis): nothing but InputError escapes, nothing hangs
+
+from hypothesis import HealthCheck, given, settings  # noqa: E402
+from hypothesis import strategies as st  # noqa: E402
+
+from vehicles.schema import OPTIONAL, REQUIRED, TRAILER  # noqa: E402
+
+_NUMBERS = st.one_of(
+    st.floats(allow_nan=True, allow_infinity=True).map(repr),
+    st.floats(-100, 100).map(lambda x: f"{x:.3g}"),
+    st.sampled_from(["", "0", "-0", "1e-300", "1e300", "nan", "inf", "-inf", "90", "89.99",
+                     "1_0", "0x10", "1,5", "10:1;20:2", "0:100;-5:50", "a:b", ":", ";"]),
+)
+_TEXT = st.text(alphabet=st.sampled_from(list('aZ9 ,";:\n\r\t\u2028\u0085\x00\x07é#-.')),
+                max_size=12)
+_CELL = st.one_of(_NUMBERS, _TEXT, st.sampled_from(["m", "ft", "ackermann", "parallel",
+                                                   "rack_pinion", "front", "rear", "P"]))
+
+
+def _quoted(cell: str) -> str:
+    return '"' + cell.replace('"', '""') + '"' if any(c in cell for c in ',"\n\r') else cell
+
+
+@st.composite
+def _tables(draw) -> str:
+    names = [c.name for c in REQUIRED]
+    extra = draw(st.lists(st.sampled_from([c.name for c in OPTIONAL + TRAILER]
+                                          + ["max_steer_deg", "ctr", "curb_to_curb",
+                                             "bogus"]), max_size=6))
+    header = draw(st.permutations(names + extra))
+    if draw(st.booleans()):
+        header = header[: draw(st.integers(0, len(header)))]
+    rows = draw(st.lists(st.lists(_CELL, min_size=max(len(header) - 1, 0),
+                                  max_size=len(header) + 1), max_size=4))
+    eol = draw(st.sampled_from(["\n", "\r\n", "\r"]))
+    lines = [",".join(header)] + [",".join(map(_quoted, r)) for r in rows]
+    return eol.join(lines) + draw(st.sampled_from(["", eol, '"']))
+
+
+@settings(max_examples=200, deadline=2000, suppress_health_check=[HealthCheck.too_slow])
+@given(text=_tables())
+def test_generated_tables_raise_nothing_but_input_errors(tmp_path_factory, text):
+    p = tmp_path_factory.mktemp("h") / "t.csv"
+    p.write_text(text, encoding="utf-8", errors="surrogatepass")
+    try:
+        table = load_tables([p])
+    except InputError:
+        return
+    for row in table.vehicles():  # what loads is usable
+        assert row.wheelbase_m > 0 and math.isfinite(row.max_steer_rad)
+    assert set(table.frame.columns) >= {"name", "wheelbase_m"}
+
+
+@settings(max_examples=100, deadline=2000)
+@given(data=st.binary(max_size=400))
+def test_generated_bytes_raise_nothing_but_input_errors(tmp_path_factory, data):
+    p = tmp_path_factory.mktemp("b") / "t.csv"
+    p.write_bytes((HEADER + ",max_steer_deg\n").encode() + data)
+    try:
+        load_tables([p])
+    except InputError:
+        pass
