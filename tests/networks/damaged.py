@@ -53,7 +53,7 @@ CASES: dict[str, tuple[str, object, str]] = {
         f"{TAG}: toLane -1 out of range (edge 'TW_out' has 1 lane(s))"),
     "lane-index-out-of-range": (
         "intersection", (LANE, LANE.replace('index="0"', 'index="3"')),
-        "edge 'TE_in': lane indices [3] are not 0 to 0 in order"),
+        "lane 'TE_in_0': index 3 out of range (edge 'TE_in' has 1 lane(s))"),
     "roundabout-unknown-edge": (
         "roundabout", ('edges="Cring0 Cring1', 'edges="NOPE Cring1'),
         "<roundabout edges=...>: unknown edge(s) 'NOPE'"),
