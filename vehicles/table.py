@@ -338,6 +338,12 @@ def _schedule(col: Column, text: str, where: str, problems: list[str]) -> Schedu
     except InputError as exc:
         problems.append(f"{where}: column {col.name}: {text!r}: {exc}")
         return None
+    limit = ALL_COLUMNS["steering_range_deg"].high  # the steering wheel turns no further
+    odd = [x for x in np.degrees(table.x) if not abs(x) <= limit]  # NaN too
+    if odd:
+        problems.append(f"{where}: column {col.name}: {text!r}: breakpoint angle {odd[0]:g} "
+                        f"outside +/-{limit:g} degrees of steering-wheel angle")
+        return None
     bad = [y for y in table.y if not col.in_range(float(y))]
     if bad:
         problems.append(f"{where}: column {col.name}: {text!r}: table value {bad[0]:g} "

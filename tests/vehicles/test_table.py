@@ -6,6 +6,7 @@ from pathlib import Path
 import pytest
 
 from vehicles.errors import InputError, TableError
+from vehicles.schema import ALL_COLUMNS
 from vehicles.table import bundled_table, bundled_table_paths, load_tables
 
 FT = 0.3048
@@ -329,6 +330,23 @@ def test_ackermann_beyond_its_range_and_an_outer_wheel_turning_back(tmp_path):
     (prob,) = problems_of(p)
     assert prob.startswith(f"{p}:2 (W): column ackermann_pct: the outer wheel comes out at -")
     assert "at full lock (inner 80.0)" in prob
+
+
+@pytest.mark.parametrize("text, expected", [
+    ("0:100;10:400", "table value 400 outside the range [0, 150] %"),
+    ("0:100;10:nan", "table value nan outside the range [0, 150] %"),
+    ("nan:100;10:90", "breakpoint angle nan outside +/-1800 degrees of steering-wheel angle"),
+    ("0:100;inf:90", "breakpoint angle inf outside +/-1800 degrees of steering-wheel angle"),
+    ("1e300:100;1e301:90", "breakpoint angle 1e+300 outside +/-1800 degrees of steering-wheel angle"),
+])
+def test_breakpoint_tables_out_of_range(tmp_path, text, expected):
+    p = write(tmp_path, HEADER + ",max_steer_deg,ackermann_pct\n" + ROW[:-1] + f",{text}\n")
+    assert problems_of(p) == [f"{p}:2 (A): column ackermann_pct: {text!r}: {expected}"
+                              + (f" ({ALL_COLUMNS['ackermann_pct'].why})" if "table value"
+                                 in expected else "")]
+    p = write(tmp_path, HEADER + ",max_steer_deg,ackermann_pct\n" + ROW[:-1]
+              + ",-900:100;0:80;900:120\n")
+    assert load_tables([p]).frame["ackermann_pct"].iloc[0] == "-900:100;0:80;900:120"
 
 
 def test_a_hitch_ahead_of_the_front_axle_is_refused(tmp_path):
