@@ -278,6 +278,16 @@ def test_not_utf8_and_nul_bytes_name_the_line(tmp_path):
         load_tables([p])
 
 
+def test_a_byte_order_mark_is_read_and_utf16_is_refused(tmp_path):
+    text = HEADER + ",max_steer_deg\n" + ROW
+    p = tmp_path / "t.csv"
+    p.write_bytes(b"\xef\xbb\xbf" + text.encode())  # as spreadsheets write it
+    assert load_tables([p]).names == ["A"]
+    p.write_bytes(text.encode("utf-16"))
+    with pytest.raises(InputError, match=r"t\.csv:1: not UTF-8 text \(byte 0: b'\\xff'\)"):
+        load_tables([p])
+
+
 def test_a_quoted_line_break_in_a_name_is_refused_and_later_lines_stay_right(tmp_path):
     # it silently became "CarTwo", and every later line number was one low
     p = write(tmp_path, HEADER + ',max_steer_deg\n"Car\nTwo",car,m,4.5,1.8,2.7,0.9,test,35\n'
