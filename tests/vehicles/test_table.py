@@ -347,7 +347,8 @@ def test_ackermann_beyond_its_range_and_an_outer_wheel_turning_back(tmp_path):
     ("0:100;10:nan", "table value nan outside the range [0, 150] %"),
     ("nan:100;10:90", "breakpoint angle nan outside +/-1800 degrees of steering-wheel angle"),
     ("0:100;inf:90", "breakpoint angle inf outside +/-1800 degrees of steering-wheel angle"),
-    ("1e300:100;1e301:90", "breakpoint angle 1e+300 outside +/-1800 degrees of steering-wheel angle"),
+    ("1e300:100;1e301:90",
+     "breakpoint angle 1e+300 outside +/-1800 degrees of steering-wheel angle"),
 ])
 def test_breakpoint_tables_out_of_range(tmp_path, text, expected):
     p = write(tmp_path, HEADER + ",max_steer_deg,ackermann_pct\n" + ROW[:-1] + f",{text}\n")
