@@ -74,6 +74,8 @@ from __future__ import annotations
 import logging
 import math
 import os
+import sys
+import tempfile
 import time
 from collections import deque
 from collections.abc import Iterator, Sequence
@@ -260,6 +262,34 @@ def drive(
     return everything
 
 
+def _start_sumo(traci, cmd: list[str], net_path: str) -> None:  # noqa: ANN001 - libsumo
+    """``traci.start(cmd)``; SUMO's refusal (a network it cannot load) is an
+    :class:`InputError` in SUMO's words.
+
+    libsumo's exception says only "Process Error": SUMO writes why to the standard error
+    stream (not to its ``--error-log``), so that stream is caught while SUMO starts and
+    passed on unchanged when it starts.
+    """
+    sys.stderr.flush()
+    saved = os.dup(2)
+    with tempfile.TemporaryFile() as caught:
+        os.dup2(caught.fileno(), 2)
+        try:
+            traci.start(cmd)
+        except traci.TraCIException as exc:
+            os.dup2(saved, 2)
+            caught.seek(0)
+            lines = caught.read().decode(errors="replace").splitlines()
+            said = " ".join(ln.strip() for ln in lines if ln.startswith("Error:")) or str(exc)
+            raise InputError(f"{net_path}: SUMO cannot load the network: {said[:500]}") from None
+        finally:
+            os.dup2(saved, 2)
+            os.close(saved)
+        caught.seek(0)
+        if text := caught.read():
+            os.write(2, text)
+
+
 class _SumoSession:
     """The libsumo side of :func:`drive`: vTypes, routes, placements, checks, errors."""
 
@@ -289,7 +319,7 @@ class _SumoSession:
         if self.options.fcd_output is not None:
             cmd += ["--fcd-output", os.fspath(self.options.fcd_output),
                     "--fcd-output.attributes", "x,y,z,angle,type,speed"]
-        self.traci.start(cmd)
+        _start_sumo(self.traci, cmd, self.net_path)
         self.move_to_xy = self.traci.vehicle.moveToXY
         self.get_position = self.traci.vehicle.getPosition
         self.vtypes.clear()

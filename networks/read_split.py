@@ -140,6 +140,7 @@ def read_in_two(path: Path, offset: int) -> _ParseState | None:
                 left = offset
                 while left > 0 and (chunk := fh.read(min(_CHUNK, left))):
                     parser.feed(chunk)
+                    state.check_size()
                     left -= len(chunk)
             parser.feed(b"</net>")
             parser.close()
@@ -152,6 +153,7 @@ def read_in_two(path: Path, offset: int) -> _ParseState | None:
             return None
         try:
             merge(state, out)
+            state.check_size()
         except Exception:  # noqa: BLE001 - whatever is wrong with the second part
             return None  # (a lane id used twice, no output at all): one pass names it
         return state
@@ -207,6 +209,8 @@ def merge(state: _ParseState, data: bytes) -> None:
     for row, shape in zip(lanes, lane_shapes, strict=True):
         state.add_lane(Lane(*row[:6], EMPTY_SHAPE, *row[6:]), shape)
     for row in edges:
+        if row[0] in state.edges:
+            raise InputError(f"edge {row[0]!r} is defined twice")  # one pass names the file
         state.edges[row[0]] = Edge(*row)
     state.connection_rows.extend(_connection_rows(connections))
     for row, shape in zip(junctions, junction_shapes, strict=True):
@@ -263,6 +267,7 @@ def _child(path: str, offset: int) -> int:
             parser.feed(b"<net>")
             while chunk := fh.read(_CHUNK):
                 parser.feed(chunk)
+                state.check_size()
         parser.close()
     except (etree.XMLSyntaxError, InputError, OSError, ValueError):
         return 2

@@ -321,3 +321,19 @@ def test_a_failing_verdict_keeps_the_other_runs(nets, table, monkeypatch):
     assert runs[1].verdict == "error" and runs[1].result is None
     assert "envelope or verdict failed: clearance areas" in runs[1].reason
     assert [runs[0].verdict, runs[2].verdict] == ["clear", "clear"]
+
+
+def test_a_network_sumo_refuses_is_an_input_error_naming_sumos_message(nets, table, tmp_path):
+    # read from the sample, handed to SUMO damaged (a via to a missing lane, which the
+    # reader refuses itself): SUMO's refusal at start is bad input, with SUMO's words
+    import dataclasses
+
+    from tests.networks import damaged
+
+    net, pairs = _pairs(nets, table, 1)
+    bad, _ = damaged.damage("via-to-a-missing-lane", tmp_path)
+    with pytest.raises(InputError) as info:
+        drive(dataclasses.replace(net, path=bad), pairs, options=DriveOptions())
+    msg = str(info.value)
+    assert msg.startswith(f"{bad}: SUMO cannot load the network: ")
+    assert "':nope_0'" in msg and "via-lane" in msg

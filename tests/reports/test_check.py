@@ -76,6 +76,21 @@ def test_bad_golden_files(tmp_path):
         read_golden(tmp_path / "none.csv")
 
 
+def test_golden_errors_name_the_right_line(tmp_path):
+    # the two comment lines a written golden file starts with, and a blank line, are
+    # lines of the file too (the rows' numbers were two low)
+    g = tmp_path / "g.csv"
+    g.write_text("# comment\n# comment\nnetwork,vehicle,curve_id,verdict\nn,v,a,clear\n\n"
+                 "n,v,b,splendid\n")
+    with pytest.raises(Exception, match="g.csv:6: unknown verdict 'splendid'"):
+        read_golden(g)
+    # after the header, '#' starts data (OSM ids hold it), never a comment
+    g.write_text("# comment\nnetwork,vehicle,curve_id,verdict\nn,v,a,clear\n\n"
+                 "n,v,a,fails\n")
+    with pytest.raises(Exception, match="g.csv:5: the same network, vehicle and curve twice"):
+        read_golden(g)
+
+
 def test_compare_orders_verdicts():
     import pandas as pd
     golden = pd.DataFrame({"network": ["n", "n"], "vehicle": ["a", "b"],
