@@ -87,7 +87,7 @@ def test_golden_errors_name_the_right_line(tmp_path):
     # after the header, '#' starts data (OSM ids hold it), never a comment
     g.write_text("# comment\nnetwork,vehicle,curve_id,verdict\nn,v,a,clear\n\n"
                  "n,v,a,fails\n")
-    with pytest.raises(Exception, match="g.csv:5: the same network, vehicle and curve twice"):
+    with pytest.raises(Exception, match="g.csv:5: the same network, vehicle and curve as line 3"):
         read_golden(g)
 
 
