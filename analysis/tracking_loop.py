@@ -27,20 +27,32 @@ RECORD = ("t_s", "s_m", "x_m", "y_m", "theta_rad", "phi_rad", "error_m", "speed_
 
 
 @njit(cache=True)
-def arc_step_one(x: float, y: float, theta: float, phi: float, wheelbase: float,
-                 ds: float) -> tuple[float, float, float]:  # pragma: no cover - compiled
-    """:func:`analysis.kinematics.arc_step` for one unit travelling ``ds`` (speed x time).
+def ramp_step_one(x: float, y: float, theta: float, phi0: float, phi1: float,
+                  wheelbase: float, distance: float, front_steered: bool
+                  ) -> tuple[float, float, float, float, float]:  # pragma: no cover
+    """:func:`analysis.kinematics.ramp_step` for one unit, with the arc it took.
+
+    Returns the new ``x, y, theta`` and the reference axle's travel ``ds`` and turn
+    ``dtheta`` (:func:`analysis.kinematics.ramp_arc`).
 
     Examples
     --------
-    >>> arc_step_one(0.0, 0.0, 0.0, 0.0, 3.0, 1.0)
-    (1.0, 0.0, 0.0)
+    >>> ramp_step_one(0.0, 0.0, 0.0, 0.0, 0.0, 3.0, 2.0, True)
+    (2.0, 0.0, 0.0, 2.0, 0.0)
     """
-    dtheta = math.tan(phi) / wheelbase * ds
+    pm = 0.5 * (phi0 + phi1)
+    if front_steered:
+        ds = distance * (math.cos(phi0) + 4.0 * math.cos(pm) + math.cos(phi1)) / 6.0
+        g = (math.sin(phi0) + 4.0 * math.sin(pm) + math.sin(phi1)) / 6.0
+    else:
+        ds = distance
+        g = (math.tan(phi0) + 4.0 * math.tan(pm) + math.tan(phi1)) / 6.0
+    dtheta = distance * g / wheelbase
     half = 0.5 * dtheta
     chord = ds * (math.sin(half) / half if half != 0.0 else 1.0)
     mid = theta + half
-    return x + chord * math.cos(mid), y + chord * math.sin(mid), theta + dtheta
+    return (x + chord * math.cos(mid), y + chord * math.sin(mid), theta + dtheta, ds,
+            dtheta)
 
 
 @njit(cache=True)
@@ -143,7 +155,7 @@ def run_loop(
             rec[2, k, i] = x[i]
             rec[3, k, i] = y[i]
             rec[4, k, i] = th[i]
-            rec[5, k, i] = new_phi
+            rec[5, k, i] = phi[i]
             rec[6, k, i] = err
             rec[7, k, i] = v_f
             rec[8, k, i] = psi[i]
@@ -162,18 +174,19 @@ def run_loop(
                 at_lock[i] += 1
             if abs(cmd - phi[i]) > rate[i] * dt:
                 rate_limited[i] += 1
+            phi0 = phi[i]
             phi[i] = new_phi
             remaining = length[i] - s_f
             step_dt = dt
             if remaining < v_f * dt:
                 step_dt = max(remaining, 0.0) / v_f
                 finishing = True
-            v_ref = v_f if rear_steer[i] else v_f * math.cos(phi[i])
-            ds_r = v_ref * step_dt
-            x[i], y[i], th[i] = arc_step_one(x[i], y[i], th[i], phi[i], wb[i], ds_r)
+            # the wheel turns from phi0 to new_phi over the step (it acts at the middle)
+            x[i], y[i], th[i], ds_r, dtheta = ramp_step_one(
+                x[i], y[i], th[i], phi0, new_phi, wb[i], v_f * step_dt, not rear_steer[i])
             if has_tr[i]:
-                psi[i] = articulation_one(psi[i], math.tan(phi[i]) / wb[i], ds_r, e[i], lt[i],
-                                          substeps)
+                k_step = dtheta / ds_r if ds_r > 0.0 else 0.0
+                psi[i] = articulation_one(psi[i], k_step, ds_r, e[i], lt[i], substeps)
                 if math.isnan(jack_t[i]) and abs(psi[i]) > psi_max[i]:
                     jack_t[i] = t + step_dt
             t = t + step_dt
