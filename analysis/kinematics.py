@@ -12,8 +12,8 @@ a step, the rear-axle centre moves on a circular arc of signed radius ``rho = l 
 constant lock closes its circle. A steering wheel turns at a finite rate: over a step of the
 path follower the steering ramps linearly from its value at the step's start to the new one,
 and :func:`ramp_step` integrates that step to second order (Simpson's rule for the turn, one
-arc for the position; exact when the steering is held). :func:`euler_step` is kept only to reproduce the explicit
-Euler exercise of the robotics article (its points lie on a circle of radius
+arc for the position; exact when the steering is held). :func:`euler_step` is kept only to
+reproduce the explicit Euler exercise of the robotics article (its points lie on a circle of radius
 ``ds / (2 sin(k ds / 2))``, slightly too large, whose centre is shifted by ``ds / 2``).
 
 Every function works on numpy arrays: one element per vehicle, so a whole batch advances in
