@@ -19,7 +19,9 @@ follows by RK4 (:func:`analysis.trailer.advance_articulation`).
 Runs, speed and ending
 ----------------------
 The vehicle starts with its front axle on the path's first point, heading along the path,
-steering straight, trailer in line. The speed profile gives the front axle's speed; the rear
+in the steady state of the path's first two metres (:func:`start_pose`): straight on a
+straight start; on a curve of radius ``R`` its rear axle on ``sqrt(R^2 - l^2)`` and the
+trailer at its steady articulation. The speed profile gives the front axle's speed; the rear
 axle of a front-steered vehicle moves at ``v_f cos(phi)``. A run ends when the front axle's
 projection reaches the end of the path (the last step is shortened to land on it), when the
 lateral error exceeds ``abort_factor * tolerance_m`` (no point driving on), when the
@@ -384,6 +386,46 @@ def _start_curvature(curvature: FloatArray, spacing: FloatArray, n_pts: NDArray[
                      for i, c in enumerate(curvature)])
 
 
+def start_pose(k0: ArrayLike, heading0: ArrayLike, wheelbase_m: ArrayLike,
+               lock_rad: ArrayLike, rear_steer: ArrayLike) -> tuple[FloatArray, FloatArray]:
+    """Steering and body heading of a vehicle whose front axle starts on a circle.
+
+    The front-axle centre starts on the path heading along it, on a curve of curvature
+    ``k0``. A front-steered vehicle's front axle runs on radius ``R = 1 / k0`` when its rear
+    axle runs on ``rho = sqrt(R^2 - l^2)``, so ``sin(phi) = l / R`` (``tan(phi) = l / rho``)
+    and the body points ``phi`` to the inside of the front axle's heading. A rear-steered
+    vehicle's front axle is its reference point: ``tan(phi) = l k0`` and the body points
+    along the path. A curve tighter than the lock starts at the lock.
+
+    Returns
+    -------
+    phi_rad, theta_rad
+
+    Examples
+    --------
+    A car of wheelbase 3 m starting on a 5 m circle: its rear axle is on the 4 m circle.
+
+    >>> phi, th = start_pose(0.2, 0.0, 3.0, 0.7, False)
+    >>> round(float(3.0 / np.tan(phi)), 9), round(float(th), 6)
+    (4.0, -0.643501)
+
+    Straight (the degenerate case), or tighter than the lock:
+
+    >>> [float(v) for v in start_pose(0.0, 0.5, 3.0, 0.7, False)]
+    [0.0, 0.5]
+    >>> float(start_pose(1.0, 0.0, 3.0, 0.7, False)[0])
+    0.7
+    """
+    k = np.asarray(k0, dtype=float)
+    l = np.asarray(wheelbase_m, dtype=float)  # noqa: E741
+    lock = np.asarray(lock_rad, dtype=float)
+    rear = np.asarray(rear_steer, dtype=bool)
+    front_phi = np.arcsin(np.clip(l * k, -1.0, 1.0))
+    phi = np.clip(np.where(rear, np.arctan(l * k), front_phi), -lock, lock)
+    th = np.asarray(heading0, dtype=float) - np.where(rear, 0.0, phi)
+    return phi, th
+
+
 def _pad(
     paths: list[Path],
 ) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray, NDArray[np.intp]]:
@@ -427,10 +469,9 @@ def _run(vehicles: list[Vehicle], paths: list[Path], st: TrackingSettings) -> li
     abort_m = st.abort_factor * st.tolerance_m
 
     # Start in the steady state of the path's first two metres: a run that begins inside a curve
-    # (a helix, a roundabout ring) starts with its wheels already turned, within the lock.
-    k0 = _start_curvature(curvature, spacing, n_pts)
-    phi = np.where(rear_steer, 0.0, np.clip(np.arctan(wb * k0), -lock, lock))
-    th = heading[:, 0] - phi  # the front axle moves along the path: theta + phi = heading
+    # (a helix, a roundabout ring) starts on its steady circle, wheels turned, within the lock.
+    phi, th = start_pose(k0=_start_curvature(curvature, spacing, n_pts), heading0=heading[:, 0],
+                         wheelbase_m=wb, lock_rad=lock, rear_steer=rear_steer)
     x = xy[:, 0, 0] - ahead * np.cos(th)
     y = xy[:, 0, 1] - ahead * np.sin(th)
     with np.errstate(divide="ignore", invalid="ignore"):

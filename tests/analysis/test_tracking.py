@@ -8,7 +8,9 @@ import math
 import numpy as np
 import pytest
 
+from analysis.envelope import swept_path
 from analysis.kinematics import SpeedProfile
+from analysis.polyline import prepare_path
 from analysis.tracking import TrackingSettings, simulate, simulate_batch, simulate_grid
 from analysis.trailer import steady_articulation_rad, steady_trailer_radius_m
 from tests.analysis.helpers import bus, car, semi, steady_rho, turn
@@ -192,3 +194,20 @@ def test_tolerance_decides_cannot_turn_on_the_same_drive() -> None:
     assert loose.followed and strict.cannot_turn
     assert loose.max_error_m == pytest.approx(strict.max_error_m)  # same drive, other verdict
     assert f"tolerance {0.5 * err:.2f} m" in strict.reason
+
+
+@pytest.mark.parametrize("smooth", [False, True])
+def test_a_run_that_starts_on_a_circle_starts_in_its_steady_state(smooth: bool) -> None:
+    # the front axle starts on a 9 m circle (vertices every 5 degrees, as SUMO draws a helix)
+    radius, v = 9.0, car()
+    a = np.radians(np.arange(0.0, 270.0 + 1e-9, 5.0 if smooth else 1.0))
+    path = prepare_path(np.c_[radius * np.sin(a), radius * (1 - np.cos(a))], smooth=smooth)
+    run = simulate(v, path)
+    tr = run.trajectory
+    rho = steady_rho(radius, v.wheelbase_m)
+    # the rear axle starts on its steady circle: sin(phi) = l / R, not tan(phi) = l / R
+    assert math.hypot(tr.x_m[0], tr.y_m[0] - radius) == pytest.approx(rho, abs=0.01)
+    assert tr.phi_rad[0] == pytest.approx(math.asin(v.wheelbase_m / radius), abs=2e-3)
+    # and the offtracking is the steady state's, CTR - rho (DESIGN.md 4), from the start on
+    assert swept_path(run).max_offtracking_m == pytest.approx(radius - rho, rel=0.01)
+    assert run.followed and run.max_error_m < 0.01
