@@ -90,35 +90,53 @@ class Path:
         return np.stack([xs, np.interp(s, self.station_m, self.xy[:, 1])], axis=-1)
 
 
-def _arc_weight(a: ArrayLike, b: ArrayLike) -> FloatArray:
-    """How much an end chord ``a`` followed by a chord ``b`` is taken for a piece of arc.
+def _turn(d1: np.ndarray, d2: np.ndarray) -> float:
+    """Signed turn (rad, left positive) from direction ``d1`` to direction ``d2``."""
+    return math.atan2(d1[0] * d2[1] - d1[1] * d2[0], d1[0] * d2[0] + d1[1] * d2[1])
 
-    1 while ``a <= 1.25 b``, 0 from ``a >= 2 b`` on (a straight lead), linear between.
+
+def _arc_weight(p: np.ndarray) -> float:
+    """How much the end of a polyline, its first points ``p``, is taken for a piece of arc.
+
+    An arc sampled evenly (as SUMO draws a helix or a ring, or cut short where a curve
+    starts inside it) has an end chord ``a`` no longer than the next, ``b``, and turns alike
+    at its next two vertices: the same curvature, turn over mean chord, to within 20 %.
+    A straight lead into a corner has the longer end chord, or a turn at the first vertex
+    unlike the next one's. 1 for an arc, 0 for a lead, blended between (``1.25 < a / b < 2``,
+    curvatures within 20-50 % of each other); 0 with fewer than four points (nothing to
+    compare).
 
     Examples
     --------
-    >>> _arc_weight(1.0, 1.0).tolist(), _arc_weight(15.0, 5.0).tolist()
-    (1.0, 0.0)
+    >>> a = np.radians([0.0, 5.0, 10.0, 15.0])
+    >>> _arc_weight(np.c_[np.sin(a), 1 - np.cos(a)])
+    1.0
+    >>> _arc_weight(np.array([[0.0, 0.0], [10.0, 0.0], [17.0, 2.0], [20.0, 2.5]]))
+    0.0
     """
-    ratio = np.asarray(a, dtype=float) / np.maximum(np.asarray(b, dtype=float), 1e-12)
-    return np.clip((2.0 - ratio) / 0.75, 0.0, 1.0)
+    if len(p) < 4:
+        return 0.0
+    d = np.diff(p[:4, :2], axis=0)
+    c = np.hypot(d[:, 0], d[:, 1])
+    length = min(max((2.0 - c[0] / max(c[1], 1e-12)) / 0.75, 0.0), 1.0)
+    k1 = _turn(d[0], d[1]) / (0.5 * (c[0] + c[1]))
+    k2 = _turn(d[1], d[2]) / (0.5 * (c[1] + c[2]))
+    big = max(abs(k1), abs(k2))
+    alike = min(abs(k1), abs(k2)) / big if big > 0 and k1 * k2 > 0 else 0.0
+    return float(length * min(max((alike - 0.5) / 0.3, 0.0), 1.0))
 
 
 def _phantom(p: np.ndarray) -> np.ndarray:
-    """A point one chord before ``p[0]``, continuing ``p[0], p[1], p[2]`` (Catmull-Rom's end).
+    """A point one chord before ``p[0]``, continuing the polyline ``p`` (Catmull-Rom's end).
 
-    Where the first chord ``a`` is not longer than the second, ``b`` (an arc sampled evenly,
-    as SUMO draws a helix or a ring, or cut short where a curve starts inside it) the
-    phantom chord turns like the curve: by ``2 a / (a + b)`` of the turn at ``p[1]``, so the
-    spline's end lies on the arc with the arc's tangent. Where the first chord is much the
-    longer (a straight lead into a corner) it continues the first chord straight; the two
-    blend for ``1.25 < a / b < 2``.
+    Where the end is a piece of arc (:func:`_arc_weight`) the phantom chord turns like the
+    curve, by ``2 a / (a + b)`` of the turn at ``p[1]`` (chords ``a``, ``b``), so the
+    spline's end lies on the arc with the arc's tangent; where it is a straight lead it
+    continues the first chord straight.
     """
     d1, d2 = p[1, :2] - p[0, :2], p[2, :2] - p[1, :2]
     a, b = math.hypot(*d1), math.hypot(*d2)
-    turn = math.atan2(d1[0] * d2[1] - d1[1] * d2[0], d1[0] * d2[0] + d1[1] * d2[1])
-    weight = _arc_weight(a, b)
-    back = float(weight) * turn * 2 * a / (a + b)  # the phantom chord turns back by this
+    back = _arc_weight(p) * _turn(d1, d2) * 2 * a / (a + b)  # the phantom chord turns back
     c, s = math.cos(back), math.sin(back)
     out = 2 * p[0] - p[1]  # z (a third column) goes on linearly
     out[:2] = p[0, :2] - np.array([c * d1[0] + s * d1[1], -s * d1[0] + c * d1[1]])
@@ -157,7 +175,7 @@ def catmull_rom(points: ArrayLike, spacing_m: float) -> np.ndarray:
     if len(pts) < 3:
         return pts
     # phantom end points continue the end chords, turning like the curve there
-    ext = np.vstack([_phantom(pts[:3]), pts, _phantom(pts[:-4:-1])])
+    ext = np.vstack([_phantom(pts[:4]), pts, _phantom(pts[:-5:-1])])
     d = np.hypot(*np.diff(ext[:, :2], axis=0).T)
     dt = np.sqrt(np.maximum(d, 1e-12))  # centripetal: alpha = 1/2
     t = np.concatenate([[0.0], np.cumsum(dt)])
@@ -217,11 +235,11 @@ def smooth_polyline(points: ArrayLike, spacing_m: float, sigma_m: float = SMOOTH
     continue an arc round), resampled every ``spacing_m``, then a Gaussian filter ``G``
     along the line whose ends are held (beyond each end the line is mirrored across its
     normal there, so a straight line goes on straight and a circle round its centre; the
-    normal is that of a circle fitted over ``sigma_m`` at the end, so that SUMO's rounding
-    of a short end chord does not tilt it), applied as ``2 G - G G``: kinks shorter than
-    ``sigma_m`` are smoothed out, while a circle keeps its radius (a plain Gaussian would
-    shrink it by ``sigma^2 / 2R``). A line that starts inside a curve starts on it, with its
-    tangent and curvature.
+    normal is that of a circle fitted over ``sigma_m`` at an end that is a piece of arc,
+    so that SUMO's rounding of a short end chord does not tilt it), applied as
+    ``2 G - G G``: kinks shorter than ``sigma_m`` are smoothed out, while a circle keeps its
+    radius (a plain Gaussian would shrink it by ``sigma^2 / 2R``). A line that starts
+    inside a curve starts on it, with its tangent and curvature.
 
     Examples
     --------
@@ -241,7 +259,11 @@ def smooth_polyline(points: ArrayLike, spacing_m: float, sigma_m: float = SMOOTH
     >>> smooth_polyline([(0.0, 0.0), (10.0, 0.0)], 1.0)[:, 1].tolist() == [0.0] * 11
     True
     """
-    pts = catmull_rom(points, spacing_m)
+    vertices = np.asarray(points, dtype=float)
+    # at an end that is a piece of arc the mirror's normal is a fitted circle's (SUMO's 1 cm
+    # rounding tilts a short end chord); elsewhere the line's own, from the last 0.2 m
+    arc_end = (_arc_weight(vertices), _arc_weight(vertices[::-1]))
+    pts = catmull_rom(vertices, spacing_m)
     seg = np.hypot(*np.diff(pts[:, :2], axis=0).T)
     pts = pts[np.concatenate([[True], seg > 1e-9])]
     s = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(pts[:, :2], axis=0).T))])
@@ -263,7 +285,12 @@ def smooth_polyline(points: ArrayLike, spacing_m: float, sigma_m: float = SMOOTH
         p0 = a[end]
         near = a[end + step: end + step * (half + 1): step] if step > 0 else \
             a[end - 1: end - half - 1: -1]
-        tan = _end_tangent(near[:fit, :2] - p0[:2])
+        # second-order one-sided difference: the tangent of a curve, not of a chord
+        tan = 4 * a[end + step, :2] - a[end + 2 * step, :2] - 3 * p0[:2]
+        w = arc_end[0 if step > 0 else 1]
+        if w > 0.0:
+            tan = (1.0 - w) * tan / np.hypot(*tan) + w * _end_tangent(near[:fit, :2] - p0[:2])
+        tan = tan / np.hypot(*tan)
         d = near[:, :2] - p0[:2]
         refl = near.copy()
         refl[:, :2] = p0[:2] + d - 2 * (d @ tan)[:, None] * tan
@@ -363,8 +390,8 @@ def prepare_path(
     h_start, h_end = seg_heading[0], seg_heading[-1]
     if len(seg_len) > 1:
         a0, b0, a1, b1 = seg_len[0], seg_len[1], seg_len[-1], seg_len[-2]
-        h_start -= float(_arc_weight(a0, b0)) * (seg_heading[1] - seg_heading[0]) * a0 / (a0 + b0)
-        h_end += float(_arc_weight(a1, b1)) * (seg_heading[-1] - seg_heading[-2]) * a1 / (a1 + b1)
+        h_start -= _arc_weight(pts) * (seg_heading[1] - seg_heading[0]) * a0 / (a0 + b0)
+        h_end += _arc_weight(pts[::-1]) * (seg_heading[-1] - seg_heading[-2]) * a1 / (a1 + b1)
     brk_s = np.concatenate([[0.0], ramp_s, [length]])
     brk_h = np.concatenate([[h_start], ramp_h, [h_end]])
     n = max(2, math.ceil(length / spacing_m - 1e-9) + 1)
