@@ -4,17 +4,34 @@ Controller
 ----------
 A Stanley-type law on the front-axle centre (the steering point)::
 
-    phi_cmd = wrap(theta_path - theta) - atan(k e / (v_f + v_soft))
+    phi_cmd = wrap(theta_path - theta) - psi_a(e)
 
 ``theta_path`` is the centre line's smooth tangent at the front axle's projection, ``e`` the
-front axle's signed lateral offset (left positive), ``v_f`` its speed and ``k`` the gain
-(1/s). The first term is the path's curvature feed-forward: on a circle of radius ``R``
-followed exactly it equals ``atan(l / sqrt(R^2 - l^2))``, the steady-state steering angle,
-and it grows while the path turns ahead of the body; the second term steers the front wheels
-toward the line so that ``e' = -v_f sin(atan(k e / v_f)) ~ -k e``. The command then passes the
-steering-rate limit and the lock (:func:`analysis.kinematics.limit_steering`) and is held
-over the step, which is integrated exactly (:func:`analysis.kinematics.arc_step`); a trailer
-follows by RK4 (:func:`analysis.trailer.advance_articulation`).
+front axle's signed lateral offset (left positive), ``v_f`` its speed. The first term is the
+path's curvature feed-forward: on a circle of radius ``R`` followed exactly it equals
+``asin(l / R)``, the steady-state steering angle, and it grows while the path turns ahead
+of the body; the second steers the front wheels toward the line at the approach angle
+``psi_a(e) = atan(k e / (v_f + v_soft))`` (``k`` the gain, 1/s), so that
+``e' = -v_f sin(psi_a) ~ -k e``, but no steeper than the wheel can take back: approaching
+at ``psi_a(e)`` the wheel turns at ``psi_a'(e) v_f sin(psi_a)``, held to half the steering
+rate (:func:`analysis.tracking_loop.approach_angle`).
+
+A wheel turned at a finite rate (a car's road wheels go lock to lock in about 4 s) reaches a
+command only later, while the body goes on turning: asked for what the state needs now,
+the wheel comes too late, and after a corner tighter than the lock the plain law swings from
+lock to lock. So the command is the steering ``c`` that the law asks for at the moment the
+wheel reaches it (:func:`analysis.tracking_loop.predictive_stanley`): the body's turn and
+the front axle's drift while the wheel turns from ``phi`` to ``c`` at the rate, the path's
+heading there, and, where ``c`` lies beyond the path's steady steering there, the body's
+turn while the wheel comes back to it. These corrections are of second order in the
+steering's change: on a smooth path, and in the steady state, the law is Stanley's; after
+a corner tighter than the lock the vehicle rejoins the centre line without crossing it.
+
+The command passes the steering-rate limit and the lock
+(:func:`analysis.kinematics.limit_steering`); over the step the wheel turns linearly from
+its old angle to the new one, and the step is integrated to second order in the time step
+(:func:`analysis.kinematics.ramp_step`: exact while the steering is held); a trailer's
+articulation follows along the same arc by RK4 (:func:`analysis.trailer.advance_articulation`).
 
 Runs, speed and ending
 ----------------------
@@ -88,8 +105,8 @@ class TrackingSettings:
     Attributes
     ----------
     dt_s
-        Time step (s). The arcs are exact whatever the step; the step sets how often the
-        controller acts (0.1 s: every 0.2 m at crawl speed).
+        Time step (s): how often the controller acts (0.1 s: every 0.2 m at crawl speed).
+        A held steering is integrated exactly, a turning one to second order in the step.
     speed
         Front-axle speed: a constant (m/s) or a :class:`~analysis.kinematics.SpeedProfile`.
     tolerance_m
@@ -146,8 +163,9 @@ class TrackingSettings:
 class Trajectory:
     """Sampled states of one run; every array has one entry per sample.
 
-    Sample ``k`` is the state at time ``t_s[k]``; ``phi_rad[k]`` is the steering held from
-    ``t_s[k]`` to ``t_s[k + 1]`` (the last one repeats). Trailer arrays are ``None`` for a
+    Sample ``k`` is the state at time ``t_s[k]``, ``phi_rad[k]`` the steering then; from
+    ``t_s[k]`` to ``t_s[k + 1]`` the wheel turns linearly from ``phi_rad[k]`` to
+    ``phi_rad[k + 1]`` (:func:`analysis.kinematics.ramp_step`). Trailer arrays are ``None`` for a
     vehicle without a trailer.
 
     Attributes

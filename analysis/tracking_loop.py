@@ -2,15 +2,15 @@
 
 One pass over the time steps advances every run of a batch: project the steering point
 onto its path (:func:`analysis.kernels.project_near`), read the speed profile, steer by the
-Stanley law (or, for a rear-steered vehicle, by path curvature and heading error), limit
-the steering by its rate and lock, record the sample, then move the unit along an exact
-arc and advance the trailer's articulation. The step's formulas are those of
-:func:`analysis.kinematics.arc_step`, :func:`analysis.kinematics.limit_steering` and
-:func:`analysis.trailer.advance_articulation`, written here for one run at a time so that
-the loop runs compiled; ``tests/analysis/test_tracking_loop.py`` checks that they agree.
-What the loop means (settings, verdicts, the recorded quantities) is documented in
-:mod:`analysis.tracking`.
-"""
+Stanley law ahead of the wheel (:func:`predictive_stanley`; for a rear-steered vehicle, by
+path curvature and heading error), limit the steering by its rate and lock, record the
+sample, then move the unit over the step while the wheel turns from its old angle to the
+new one (one arc, second order in the step) and advance the trailer's articulation along
+that arc. The step's formulas are those of :func:`analysis.kinematics.ramp_step`,
+:func:`analysis.kinematics.limit_steering` and :func:`analysis.trailer.advance_articulation`,
+written here for one run at a time so that the loop runs compiled;
+``tests/analysis/test_tracking_loop.py`` checks that they agree. What the loop means
+(settings, verdicts, the recorded quantities) is documented in :mod:`analysis.tracking`."""
 
 from __future__ import annotations
 

@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from analysis.envelope import swept_path
-from analysis.kinematics import SpeedProfile
+from analysis.kinematics import SpeedProfile, ramp_step
 from analysis.polyline import prepare_path
 from analysis.tracking import TrackingSettings, simulate, simulate_batch, simulate_grid
 from analysis.trailer import steady_articulation_rad, steady_trailer_radius_m
@@ -240,3 +240,17 @@ def test_after_a_corner_tighter_than_the_lock_it_rejoins_without_overshooting(le
     assert np.max(-np.sign(e[peak]) * e[peak:]) < 0.05
     # and it is back on it within 15 m of the corner
     assert np.all(np.abs(e[s > s[0] + 15.0]) < 0.05)
+
+
+def test_the_loop_turns_the_wheel_over_each_step_as_ramp_step_integrates_it() -> None:
+    # a slow wheel (rate-limited for most of the corner): the recorded states are the
+    # recorded steering's ramps integrated step by step (second order in the step, see
+    # tests/analysis/test_kinematics.py), not the new steering held over each step
+    v = bus(rate=0.15)
+    tr = simulate(v, turn(12.0, 90.0), TrackingSettings(speed=3.0)).trajectory
+    d = tr.speed_m_s[:-1] * np.diff(tr.t_s)
+    x, y, th = ramp_step(tr.x_m[:-1], tr.y_m[:-1], tr.theta_rad[:-1], d, tr.phi_rad[:-1],
+                         tr.phi_rad[1:], v.wheelbase_m)
+    assert np.allclose(x, tr.x_m[1:], atol=1e-9) and np.allclose(y, tr.y_m[1:], atol=1e-9)
+    assert np.allclose(th, tr.theta_rad[1:], atol=1e-12)
+    assert np.count_nonzero(np.abs(np.diff(tr.phi_rad)) > 0.15 * 0.1 - 1e-9) > 10
