@@ -24,6 +24,7 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass, replace
 from pathlib import Path
 
+from analysis.tracking import TrackingSettings
 from networks.curves import Curve
 from networks.driver import DrivenRun, DriveOptions, drive
 from networks.reader import Network, read_network
@@ -34,8 +35,9 @@ from reports.records import RunRecord
 from vehicles.errors import InputError
 from vehicles.vehicle import Vehicle
 
-__all__ = ["Batch", "detached", "error_record", "isolate", "lost_batch", "run_batch",
-           "split_batch", "worker_network"]
+__all__ = ["Batch", "DriveTask", "detached", "error_record", "isolate", "lost_batch",
+           "lost_drive", "run_batch", "run_drive", "split_batch", "split_drive",
+           "worker_network"]
 
 log = logging.getLogger(__name__)
 
@@ -282,3 +284,45 @@ def run_batch(batch: Batch, shared: SharedFile | None = None) -> list[RunRecord]
             out += isolate([item], run, failed)
         return out
     return isolate(list(batch.pairs), run, failed)
+
+
+@dataclass(frozen=True)
+class DriveTask:
+    """Runs of ``clearance simulate`` for one worker: the pairs, the model's settings and
+    the drive options (an FCD file among them)."""
+
+    pairs: tuple[tuple[Vehicle, Curve], ...]
+    settings: TrackingSettings
+    options: DriveOptions
+    part: str = ""
+
+    def __len__(self) -> int:
+        return len(self.pairs)
+
+
+def split_drive(task: DriveTask) -> list[DriveTask]:
+    """The two halves of a drive task, each with its own FCD file (``[]`` for one run)."""
+    if len(task.pairs) < 2:
+        return []
+    mid = len(task.pairs) // 2
+    out = []
+    for half, pairs in (("a", task.pairs[:mid]), ("b", task.pairs[mid:])):
+        options = task.options
+        if options.fcd_output is not None:
+            fcd = Path(options.fcd_output)
+            options = replace(options, fcd_output=fcd.with_name(
+                f"{fcd.name.removesuffix('.xml')}-{half}.xml"))
+        out.append(replace(task, pairs=pairs, options=options, part=task.part + half))
+    return out
+
+
+def run_drive(task: DriveTask, shared: SharedFile) -> list[DrivenRun]:
+    """Drive ``task``'s runs in this worker (:func:`networks.driver.drive`)."""
+    return drive(worker_network(shared), list(task.pairs), task.settings, task.options)
+
+
+def lost_drive(task: DriveTask, reason: str) -> list[DrivenRun]:
+    """Failed runs for a drive task whose worker died even when run alone."""
+    why = ("the worker process died running this alone (SUMO crashed or memory ran out): "
+           + reason)
+    return [DrivenRun(v, c, error=why) for v, c in task.pairs]

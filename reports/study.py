@@ -110,7 +110,13 @@ def load_networks(paths: Sequence[str | Path], longest_m: float,
     (only those of ``selection``, see :mod:`networks.selection`)."""
     out: list[NetworkCurves] = []
     opts = CurveOptions(approach_length_m=max(25.0, longest_m + 5.0))
-    nets = [(Path(p), read_network(p)) for p in paths]
+    unique: dict[str, Path] = {}
+    for p in paths:  # the same file named twice is studied once
+        key = os.path.realpath(p)
+        if key in unique:
+            log.warning("%s: named twice (as %s); studied once", p, unique[key])
+        unique.setdefault(key, Path(p))
+    nets = [(path, read_network(path)) for path in unique.values()]
     if selection is not None and selection.junctions:
         check_junctions(selection.junctions, [net for _, net in nets])
     for path, net in nets:
