@@ -240,7 +240,9 @@ def drive(
     for d in out:
         assert d.run is not None
         try:
-            d.result = evaluate(d.run, areas[d.curve.curve_id], options.offset_m)
+            # judged by its feature: the sweep while the vehicle is in it
+            d.result = evaluate(d.run, areas[d.curve.curve_id], options.offset_m,
+                                feature_m=(d.curve.core_start_m, d.curve.core_end_m))
         except (InputError, ValueError, shapely.errors.ShapelyError) as exc:
             # one run's bad geometry must not lose the others' results
             d.error = (d.error + "; " if d.error else "") + f"envelope or verdict failed: {exc}"
