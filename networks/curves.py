@@ -10,6 +10,10 @@ Kinds and how they are found:
     One per connection through a junction that has internal lanes (approach lane →
     internal lanes → exit lane), for lanes that admit passenger cars, buses or trucks.
     Connections at the nodes of a ``<roundabout>`` are left to the ``roundabout`` curves.
+``uturn``
+    The same for netconvert's automatic turnarounds (connection ``dir="t"``, at dead
+    ends and on divided roads): a kind of their own, left out unless asked for
+    (:data:`DEFAULT_KINDS`).
     A network built without internal lanes (``--no-internal-links``) has no junction
     geometry to check: no turns are extracted and a warning says so.
 ``roundabout``
@@ -56,7 +60,11 @@ if TYPE_CHECKING:
 
 log = logging.getLogger(__name__)
 
-KINDS = ("turn", "roundabout", "ramp", "bend")
+KINDS = ("turn", "uturn", "roundabout", "ramp", "bend")
+"""Every kind of curve, in the order curves are sorted."""
+
+DEFAULT_KINDS = ("turn", "roundabout", "ramp", "bend")
+"""The kinds a study checks unless asked otherwise: netconvert's automatic U-turns left out."""
 
 
 @dataclass(eq=False, slots=True)
@@ -66,10 +74,11 @@ class Curve:
     Attributes
     ----------
     curve_id
-        Stable id, e.g. ``turn:J0:E1_0->E3_0``, ``roundabout:R2:in_0->out_0``,
+        Stable id, e.g. ``turn:J0:E1_0->E3_0``, ``uturn:J0:E1_0->-E1_0``,
+        ``roundabout:R2:in_0->out_0``,
         ``ramp:H0_0->H3_0``, ``bend:E7_1:0``.
     kind
-        ``turn``, ``roundabout``, ``ramp`` or ``bend``.
+        ``turn``, ``uturn``, ``roundabout``, ``ramp`` or ``bend``.
     junction
         The junction of the feature (a turn's junction, the ring node entered, the junction
         a ramp starts from, a bend's edge's start junction).
@@ -273,10 +282,14 @@ def _road_lane(net: Network, lane_id: str) -> bool:
 
 
 def find_turns(
-    net: Network, opts: CurveOptions, table: LaneTable | None = None
+    net: Network, opts: CurveOptions, table: LaneTable | None = None, uturns: bool = False
 ) -> Iterable[Item]:
-    """Yield one ``turn`` per connection through a junction's internal lanes."""
+    """Yield one ``turn`` per connection through a junction's internal lanes; with
+    ``uturns``, one ``uturn`` per automatic turnaround (``dir="t"``) instead."""
+    kind = "uturn" if uturns else "turn"
     if not net.has_internal_lanes:
+        if uturns:
+            return
         log.warning(
             "%s: built without internal lanes (--no-internal-links): junction turns have no "
             "geometry and are not extracted; rebuild the network with internal links",
@@ -293,12 +306,12 @@ def find_turns(
         if not via or from_edge.startswith(":"):
             continue
         junction = junction_of_internal(via)  # (the first of its via lanes)
-        if junction in ring_nodes:
+        if junction in ring_nodes or (conn.direction == "t") != uturns:
             continue
         junction = junction_ids.setdefault(junction, junction)
         from_lane, to_lane = f"{from_edge}_{from_index}", f"{to_edge}_{to_index}"
-        named.append((f"turn:{junction}:{from_lane}->{to_lane}", junction, from_lane, to_lane,
-                      conn))
+        named.append((f"{kind}:{junction}:{from_lane}->{to_lane}", junction, from_lane,
+                      to_lane, conn))
     named.sort(key=itemgetter(0))
     for curve_id, junction, from_lane, to_lane, conn in named:
         a, b = lanes.get(from_lane), lanes.get(to_lane)
@@ -310,7 +323,7 @@ def find_turns(
         if not vias:
             continue
         path = plan_path(net, [from_lane], vias, [to_lane], approach, approach, table=table)
-        yield (curve_id, "turn", junction, path)
+        yield (curve_id, kind, junction, path)
 
 
 def find_roundabouts(
@@ -533,7 +546,7 @@ def _runs(mask: np.ndarray) -> list[tuple[int, int]]:
 
 def extract_curves(
     net: Network,
-    kinds: Iterable[str] = KINDS,
+    kinds: Iterable[str] = DEFAULT_KINDS,
     options: CurveOptions | None = None,
     areas: bool = True,
     build_ahead: bool = False,
@@ -545,7 +558,7 @@ def extract_curves(
     net
         A network from :func:`networks.reader.read_network`.
     kinds
-        Any of ``turn``, ``roundabout``, ``ramp``, ``bend``.
+        Any of :data:`KINDS`; by default :data:`DEFAULT_KINDS` (``uturn`` left out).
     options
         Extraction parameters (approach length, fitting window, thresholds).
     areas
@@ -589,6 +602,8 @@ def _extract(
         # together); the turns come first, so what is measured is a prefix of the list
         offer = feed.offer if feed is not None else None
         curves.extend(measure(net, find_turns(net, opts, table), opts, table, offer))
+    if "uturn" in wanted:
+        curves.extend(measure(net, find_turns(net, opts, table, uturns=True), opts, table))
     if "roundabout" in wanted:
         curves.extend(measure(net, list(find_roundabouts(net, opts, table)), opts, table))
     ramp_edges: set[str] = set()

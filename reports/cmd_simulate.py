@@ -32,7 +32,7 @@ from pathlib import Path
 import numpy as np
 
 from analysis.tracking import TrackingSettings
-from networks.curves import KINDS, extract_curves
+from networks.curves import DEFAULT_KINDS, KINDS, extract_curves
 from networks.driver import (
     REPLAY_COMMAND,
     DrivenRun,
@@ -91,7 +91,7 @@ def add_parser(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParse
     p.add_argument("--curve", action="append", metavar="ID",
                    help="only this curve (repeatable; ids as `clearance curves` lists them)")
     p.add_argument("--kind", action="append", choices=KINDS,
-                   help="only curves of this kind (repeatable; default: all)")
+                   help="only curves of this kind (repeatable; default: all but uturn)")
     p.add_argument("-o", "--output", type=Path, metavar="DIR",
                    help="write results.csv, envelopes.geojson and trajectories/ here")
     add_clearance_option(p)
@@ -124,9 +124,10 @@ def run(args: argparse.Namespace) -> int:
     table = load_tables(args.table, list(dict.fromkeys(args.vehicle)))
     vehicles = [table.vehicle(n) for n in dict.fromkeys(args.vehicle)]
     net = read_network(args.net)
-    curves = select_curves(extract_curves(net, args.kind or KINDS), args.curve)
+    curves = select_curves(extract_curves(net, args.kind or DEFAULT_KINDS), args.curve)
     if not curves:
-        raise InputError(f"{args.net}: no curves of kind {', '.join(args.kind or KINDS)}")
+        kinds = ", ".join(args.kind or DEFAULT_KINDS)
+        raise InputError(f"{args.net}: no curves of kind {kinds}")
     fcd = args.output / "fcd.xml" if args.fcd else None
     fcd_tmp = None
     if fcd is not None:

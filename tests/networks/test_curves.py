@@ -219,3 +219,30 @@ def test_turns_are_found_in_the_order_of_their_ids(small_grid):
     assert len(ids) == len(set(ids)) > 100
     assert ids == sorted(ids)
     assert [c.curve_id for c in extract_curves(net, ["turn"], areas=False)] == ids
+
+
+def test_automatic_uturns_are_a_kind_of_their_own_left_out_by_default(build_net):
+    # netconvert adds a turnaround (dir "t") at each end of a two-way street by default
+    nodes = '<node id="A" x="-100" y="0"/><node id="B" x="0" y="0"/><node id="C" x="100" y="0"/>'
+    edges = (
+        '<edge id="AB" from="A" to="B"/><edge id="BA" from="B" to="A"/>'
+        '<edge id="BC" from="B" to="C"/><edge id="CB" from="C" to="B"/>'
+    )
+    net = read_network(build_net(nodes, edges))
+    turnarounds = {(c.from_lane, c.to_lane) for c in net.connections
+                   if c.direction == "t" and c.via}
+    assert turnarounds, "netconvert made no turnaround"
+    default = extract_curves(net, areas=False)
+    assert all(c.kind != "uturn" and not c.curve_id.startswith("uturn:") for c in default)
+    direction = {(c.from_lane, c.to_lane): c.direction for c in net.connections}
+    for c in default:
+        if c.kind == "turn":
+            a, b = c.curve_id.split(":", 2)[2].split("->")
+            assert direction[(a, b)] != "t", c.curve_id
+    uturns = extract_curves(net, ["uturn"], areas=False)
+    assert {tuple(c.curve_id.split(":", 2)[2].split("->")) for c in uturns} == turnarounds
+    assert all(c.kind == "uturn" and abs(abs(c.turn_angle_deg) - 180) < 10 for c in uturns)
+    # all kinds together: turns first, then U-turns, each sorted by id
+    both = extract_curves(net, ["turn", "uturn"], areas=False)
+    assert [c.kind for c in both] == sorted((c.kind for c in both), key=["turn", "uturn"].index)
+

@@ -63,9 +63,13 @@ def test_a10kw_osm_roundabouts_and_turns():
             if direction[tuple(c.curve_id.split(":", 2)[2].split("->"))] == d
         ]
 
-    # SUMO's internal lanes: U-turns about a lane width across, right turns tighter than
-    # left turns (which sweep across the junction), straight on nearly straight
-    assert 1.0 < np.median(radii("t")) < 3.0
+    # SUMO's internal lanes: U-turns about a lane width across (a kind of their own, never
+    # among the turns), right turns tighter than left turns (which sweep across the
+    # junction), straight on nearly straight
+    assert not radii("t")
+    uturns = extract_curves(net, ["uturn"], areas=False)
+    assert uturns and all(c.curve_id.startswith("uturn:") for c in uturns)
+    assert 1.0 < np.median([c.min_radius_m for c in uturns]) < 3.0
     assert 2.0 < np.median(radii("r")) < np.median(radii("l")) < 30.0
     assert np.median(radii("s")) > 100.0
 
