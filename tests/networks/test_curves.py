@@ -246,3 +246,26 @@ def test_automatic_uturns_are_a_kind_of_their_own_left_out_by_default(build_net)
     both = extract_curves(net, ["turn", "uturn"], areas=False)
     assert [c.kind for c in both] == sorted((c.kind for c in both), key=["turn", "uturn"].index)
 
+
+def test_approach_and_exit_never_run_on_sidewalks_or_walking_areas(build_net):
+    # a pedestrian zone open to deliveries (one shared lane each way, as OSM's
+    # highway=pedestrian): its lanes connect to walking areas at both junctions
+    zone = 'numLanes="1" allow="pedestrian delivery bicycle"'
+    edges = "".join(
+        f'<edge id="{a}{b}" from="{a}" to="{b}" {zone}/>'
+        for a, b in (("W", "X"), ("X", "W"), ("X", "E"), ("E", "X"), ("S", "X"), ("X", "S"))
+    )
+    nodes = ('<node id="W" x="-30" y="0"/><node id="X" x="0" y="0" type="priority"/>'
+             '<node id="E" x="30" y="0"/><node id="S" x="0" y="-30"/>')
+    net = read_network(build_net(nodes, edges, None, "--walkingareas"))
+    walk = {k for k, ln in net.lanes.items() if ln.function == "walkingarea"}
+    assert walk
+    # the street's lanes do lead into walking areas
+    assert any(c.to_lane in walk for c in net.connections)
+    from networks.paths import drivable
+
+    curves = extract_curves(net, ["turn"], CurveOptions(approach_length_m=60.0), areas=False)
+    assert curves
+    for c in curves:
+        bad = [k for k in c.lanes if not drivable(net, k)]
+        assert not bad, (c.curve_id, bad)
