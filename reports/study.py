@@ -1,7 +1,10 @@
 """Running a study: every vehicle through every curve of every network.
 
 :func:`run_study` reads each network, extracts its curves (with approaches long enough for
-the longest vehicle), and measures every vehicle on every curve by one of two methods:
+the longest vehicle), keeps for each
+vehicle the curves whose lanes admit its SUMO class (:func:`permitted_groups`; the others
+are counted as not permitted), and measures every vehicle on those curves by one of two
+methods:
 
 ``simulate``
     Each vehicle is driven along each curve with its kinematic model within its steering
@@ -27,7 +30,7 @@ from pathlib import Path
 import pandas as pd
 from shapely.geometry.base import BaseGeometry
 
-from networks.curves import Curve, CurveOptions, extract_curves
+from networks.curves import Curve, CurveOptions, extract_curves, permits
 from networks.reader import Network, read_network
 from reports.analytic import run_analytic
 from vehicles.errors import InputError
@@ -96,6 +99,9 @@ class Study:
     table: VehicleTable
     method: str
     clearance_m: float
+    #: (network, vehicle, curve id) of every curve whose lanes do not admit the
+    #: vehicle's SUMO class: not run, not a verdict
+    not_permitted: list[tuple[str, str, str]] = field(default_factory=list)
 
     def frame(self) -> pd.DataFrame:
         """One row per network × vehicle × curve (the columns of ``clearance.csv``)."""
@@ -194,16 +200,43 @@ def run_study(
     total = sum(len(n.curves) for n in nets) * len(vehicles)
     update = progress_bar(total, f"{method} {len(vehicles)} vehicles")
     records: list[RunRecord] = []
-    for nc in nets:
-        if method == "analytic":
-            records += _analytic_records(nc, vehicles, clearance_m, update)
-        else:
-            from reports.simulated import simulated_records
+    refused: list[tuple[str, str, str]] = []
+    for whole in nets:
+        for nc, group, barred in permitted_groups(whole, vehicles):
+            refused += barred
+            update(len(barred))
+            if not nc.curves:
+                continue
+            if method == "analytic":
+                records += _analytic_records(nc, group, clearance_m, update)
+            else:
+                from reports.simulated import simulated_records
 
-            records += simulated_records(nc, vehicles, clearance_m, update, fcd_dir)
+                records += simulated_records(nc, group, clearance_m, update, fcd_dir)
     order = {v.name: i for i, v in enumerate(vehicles)}
     net_order = {n.name: i for i, n in enumerate(nets)}
     curve_order = {(n.name, c.curve_id): i for n in nets for i, c in enumerate(n.curves)}
     records.sort(key=lambda r: (net_order[r.network], curve_order[(r.network, r.curve_id)],
                                 order[r.vehicle]))
-    return Study(records, nets, table, method, clearance_m)
+    return Study(records, nets, table, method, clearance_m, sorted(refused))
+
+
+def permitted_groups(
+    nc: NetworkCurves, vehicles: list[Vehicle]
+) -> list[tuple[NetworkCurves, list[Vehicle], list[tuple[str, str, str]]]]:
+    """The vehicles by SUMO class, each group with the curves its lanes admit it on
+    (:func:`networks.curves.permits`) and the (network, vehicle, curve) it may not use.
+
+    A vehicle is checked only on the curves it may drive; the others are not permitted,
+    never a failure, and not run at all."""
+    by_class: dict[str, list[Vehicle]] = {}
+    for v in vehicles:
+        by_class.setdefault(v.vclass, []).append(v)
+    out = []
+    for vclass, group in by_class.items():
+        ok = [c for c in nc.curves if permits(nc.network, c, vclass)]
+        kept = {id(c) for c in ok}
+        barred = [(nc.name, v.name, c.curve_id) for c in nc.curves if id(c) not in kept
+                  for v in group]
+        out.append((NetworkCurves(nc.name, nc.path, nc.network, ok), group, barred))
+    return out

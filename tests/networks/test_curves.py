@@ -269,3 +269,20 @@ def test_approach_and_exit_never_run_on_sidewalks_or_walking_areas(build_net):
     for c in curves:
         bad = [k for k in c.lanes if not drivable(net, k)]
         assert not bad, (c.curve_id, bad)
+
+
+def test_permissions_follow_the_lanes_allow(build_net):
+    # a bus-only street from the west and an ordinary one from the south, into a junction
+    nodes = ('<node id="W" x="-60" y="0"/><node id="X" x="0" y="0" type="priority"/>'
+             '<node id="N" x="0" y="60"/><node id="S" x="0" y="-60"/>')
+    edges = ('<edge id="WX" from="W" to="X" numLanes="1" allow="bus"/>'
+             '<edge id="SX" from="S" to="X" numLanes="1"/>'
+             '<edge id="XN" from="X" to="N" numLanes="1"/>')
+    net = read_network(build_net(nodes, edges))
+    from networks.curves import permits, permitted_lanes
+
+    by_id = {c.curve_id: c for c in extract_curves(net, ["turn"], areas=False)}
+    from_w, from_s = by_id["turn:X:WX_0->XN_0"], by_id["turn:X:SX_0->XN_0"]
+    assert permitted_lanes(from_s)[0] == "SX_0" and permitted_lanes(from_s)[-1] == "XN_0"
+    assert permits(net, from_w, "bus") and not permits(net, from_w, "passenger")
+    assert permits(net, from_s, "bus") and permits(net, from_s, "passenger")

@@ -1,0 +1,61 @@
+"""Running a study: permissions by SUMO class, and verdicts independent of the table."""
+
+from __future__ import annotations
+
+from functools import partial
+from pathlib import Path
+
+import pytest
+
+from networks.driver import DriveOptions
+from reports.study import run_study
+from reports.tables import summary
+from vehicles.table import bundled_table, load_tables
+
+#: ../shared/realnets from the repository root (a worktree sits one level deeper)
+REALNETS = [Path(__file__).resolve().parents[n] / "shared" / "realnets" for n in (3, 4)]
+
+
+def _realnet(name: str) -> Path:
+    for folder in REALNETS:
+        if (folder / name).is_file():
+            return folder / name
+    pytest.skip(f"{name} is not in ../shared/realnets")
+
+
+def _without_sumo(monkeypatch) -> None:
+    """The simulate method with the model, envelopes and verdicts, but no libsumo."""
+    import reports.simulated
+
+    monkeypatch.setattr(reports.simulated, "DriveOptions",
+                        partial(DriveOptions, use_sumo=False))
+
+
+def test_curves_a_vehicle_may_not_use_are_not_permitted_never_run(tmp_path):
+    from networks.sumo_tools import netconvert_plain
+
+    try:
+        net = netconvert_plain(
+            tmp_path, "bus",
+            nodes=('<nodes><node id="W" x="-60" y="0"/><node id="X" x="0" y="0" '
+                   'type="priority"/><node id="N" x="0" y="60"/><node id="S" x="0" y="-60"/>'
+                   '</nodes>'),
+            edges=('<edges><edge id="WX" from="W" to="X" numLanes="1" allow="bus"/>'
+                   '<edge id="SX" from="S" to="X" numLanes="1"/>'
+                   '<edge id="XN" from="X" to="N" numLanes="1"/></edges>'),
+            options=["--no-turnarounds"])
+    except FileNotFoundError as exc:  # pragma: no cover - depends on the install
+        pytest.skip(f"netconvert is not available: {exc}")
+    table = load_tables([bundled_table("aashto_green_book")], names=["P", "CITY-BUS"])
+    study = run_study([net], table, method="analytic")
+    ran = {(r.vehicle, r.curve_id) for r in study.records}
+    assert ("CITY-BUS", "turn:X:WX_0->XN_0") in ran
+    assert ("P", "turn:X:WX_0->XN_0") not in ran
+    assert ("P", "turn:X:SX_0->XN_0") in ran
+    assert study.not_permitted == [("bus", "P", "turn:X:WX_0->XN_0")]
+    s = summary(study, [])
+    assert s["not_permitted"] == {"runs": 1, "by_vehicle": {"P": 1}}
+    assert s["runs"] == len(study.records) == 3
+    # never a failure: the runs that were made are the only verdicts
+    assert sum(s["verdicts"].values()) == 3
+
