@@ -1,7 +1,8 @@
 """Running a study: every vehicle through every curve of every network.
 
-:func:`run_study` reads each network, extracts its curves (with approaches long enough for
-the longest vehicle), keeps for each
+:func:`run_study` reads each network, extracts its curves with lead-ins and run-outs of
+a fixed :data:`APPROACH_M`, whatever the table (a vehicle's verdicts never depend on which
+other vehicles are in it; the verdict is judged in the feature only), keeps for each
 vehicle the curves whose lanes admit its SUMO class (:func:`permitted_groups`; the others
 are counted as not permitted), and measures every vehicle on those curves by one of two
 methods:
@@ -128,10 +129,14 @@ def network_name(path: Path, taken: Iterable[str] = ()) -> str:
     return name
 
 
-def load_networks(paths: Sequence[str | Path], longest_m: float) -> list[NetworkCurves]:
-    """Read each network and extract its curves, approaches long enough for ``longest_m``."""
+#: Lead-in and run-out of every curve of a study (m): the same whatever the vehicle table.
+APPROACH_M = 30.0
+
+
+def load_networks(paths: Sequence[str | Path]) -> list[NetworkCurves]:
+    """Read each network and extract its curves, with :data:`APPROACH_M` lead-ins."""
     out: list[NetworkCurves] = []
-    opts = CurveOptions(approach_length_m=max(25.0, longest_m + 5.0))
+    opts = CurveOptions(approach_length_m=APPROACH_M)
     for p in paths:
         path = Path(p)
         net = read_network(path)
@@ -195,8 +200,7 @@ def run_study(
     if not clearance_m >= 0:
         raise InputError(f"--clearance must be a distance >= 0 m, not {clearance_m}")
     vehicles = table.vehicles()
-    longest = max(v.overall_length_m for v in vehicles)
-    nets = load_networks(network_paths, longest)
+    nets = load_networks(network_paths)
     total = sum(len(n.curves) for n in nets) * len(vehicles)
     update = progress_bar(total, f"{method} {len(vehicles)} vehicles")
     records: list[RunRecord] = []

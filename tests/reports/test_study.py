@@ -8,7 +8,7 @@ from pathlib import Path
 import pytest
 
 from networks.driver import DriveOptions
-from reports.study import run_study
+from reports.study import APPROACH_M, run_study
 from reports.tables import summary
 from vehicles.table import bundled_table, load_tables
 
@@ -59,3 +59,21 @@ def test_curves_a_vehicle_may_not_use_are_not_permitted_never_run(tmp_path):
     # never a failure: the runs that were made are the only verdicts
     assert sum(s["verdicts"].values()) == 3
 
+
+def test_a_vehicles_verdicts_do_not_depend_on_the_others_in_the_table(monkeypatch):
+    net = _realnet("bologna_joined.net.xml.gz")
+    _without_sumo(monkeypatch)
+    path = bundled_table("aashto_green_book")
+    alone = run_study([net], load_tables([path], names=["P"]))
+    both = run_study([net], load_tables([path], names=["P", "WB-67"]))
+    # the former rule (the longest vehicle plus 5 m, at least 25 m) gave these two tables
+    # different lead-ins; now every study has the same
+    wb67 = load_tables([path], names=["WB-67"]).vehicles()[0]
+    assert wb67.overall_length_m + 5 > 25.0 and APPROACH_M == 30.0
+
+    def p_rows(study):
+        return [(r.curve_id, r.verdict, round(r.margin_m, 6), round(r.paved_margin_m, 6))
+                for r in study.records if r.vehicle == "P"]
+
+    assert len(p_rows(alone)) > 300
+    assert p_rows(alone) == p_rows(both)
