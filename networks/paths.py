@@ -4,7 +4,8 @@ A *path* is an ordered list of lane ids a vehicle drives: approach lanes, the co
 lanes of the feature: a junction's internal lanes, a ring, a ramp), exit lanes. The
 approach is extended back through upstream lanes when the approach lane is shorter than
 wanted (preferring straight-on connections), the exit forward likewise, only through lanes
-a road vehicle may drive (:func:`drivable`) and never through a U-turn.
+a road vehicle may drive (:func:`drivable`) and only straight on (never through a turn or
+a U-turn, which are neighbouring curves).
 """
 
 from __future__ import annotations
@@ -92,10 +93,17 @@ def drivable(net: Network, lane_id: str) -> bool:
             and not lane.allowed.isdisjoint(ROAD_VCLASSES))
 
 
+#: Connection directions a lead-in or run-out may be extended through: straight on and
+#: SUMO's partial turns. A right or left turn, or a U-turn, before a feature is a curve of
+#: its own (its neighbour's), never part of this one's lead-in.
+EXTEND_DIRECTIONS = frozenset(("s", "R", "L"))
+
+
 def _may_extend(net: Network, conn: Connection, lane_id: str) -> bool:
-    """A connection an approach or exit may be extended through: not a U-turn, onto a
-    drivable lane, and through drivable internal lanes only."""
-    if conn.direction == "t" or not drivable(net, lane_id):
+    """A connection an approach or exit may be extended through: straight on or a partial
+    turn (:data:`EXTEND_DIRECTIONS`), onto a drivable lane, and through drivable internal
+    lanes only."""
+    if conn.direction not in EXTEND_DIRECTIONS or not drivable(net, lane_id):
         return False
     vias = via_lanes(net, conn) or []
     return all(drivable(net, v) for v in vias)
@@ -116,7 +124,7 @@ def extend_back(
     """Lanes upstream of ``lane_id`` (farthest first) covering at least ``need_m`` metres.
 
     Follows the straightest connection into each lane (its internal lanes included) that
-    a road vehicle may drive and that is not a U-turn (:func:`_may_extend`); stops early
+    a road vehicle may drive and that goes straight on (:func:`_may_extend`); stops early
     where nothing leads in, at a loop, or after :data:`MAX_EXTENSION_LANES`.
     """
     out: list[str] = []
@@ -145,7 +153,7 @@ def extend_forward(
     net: Network, lane_id: str, need_m: float, table: LaneTable | None = None
 ) -> list[str]:
     """Lanes downstream of ``lane_id`` (nearest first) covering at least ``need_m`` metres
-    (as :func:`extend_back`: drivable lanes only, no U-turn)."""
+    (as :func:`extend_back`: drivable lanes only, straight on only)."""
     out: list[str] = []
     seen = {lane_id}
     cur = lane_id
