@@ -45,12 +45,13 @@ from networks.geometry import (
     arc_length,
     clean_polyline,
     curvature_profile,
+    cut_polyline,
     grades_pct,
     radius_from_curvature,
     unwrap,
 )
 from networks.lane_table import LaneTable
-from networks.paths import PathPlan, junction_of_internal, plan_path, realise, via_lanes
+from networks.paths import Path, PathPlan, junction_of_internal, plan_path, realise, via_lanes
 from networks.profiles import Stations, profiles
 from networks.reader import ROAD_VCLASSES, Network, gc_paused
 from vehicles.errors import InputError
@@ -229,7 +230,7 @@ def _measure(
 ) -> list[Curve]:
     if not items:
         return []
-    paths = realise(net, [it[3] for it in items], table)
+    paths = _steady_lead_ins(realise(net, [it[3] for it in items], table), opts)
     prof = profiles(
         [p.centerline for p in paths],
         [p.core_start_m for p in paths],
@@ -253,6 +254,47 @@ def _measure(
             prof.radius_m[n], min_r, turn, b - a, width, g, dg,
         ))
     return curves
+
+
+#: A lead-in starts after the last stretch tighter than this (m) more than
+#: :data:`LEAD_KEEP_M` before the feature: a corner there is a neighbouring curve, and the
+#: vehicle should enter this one in a steady state, not still recovering from that one.
+LEAD_MIN_RADIUS_M = 15.0
+
+#: The lead-in kept next to the feature whatever its radius (m).
+LEAD_KEEP_M = 5.0
+
+
+def _steady_lead_ins(paths: list[Path], opts: CurveOptions) -> list[Path]:
+    """The paths with each lead-in cut to start after its last tight stretch.
+
+    The lead-in is for bringing the vehicle to the feature in a steady state; extended
+    back straight on only (:mod:`networks.paths`), it can still hold a tight corner
+    inside a lane (an OSM service road's). The line then starts one fitting window after
+    the last station, more than :data:`LEAD_KEEP_M` and a fitting window before the
+    feature, whose radius is under :data:`LEAD_MIN_RADIUS_M`, and never closer to the feature than
+    :data:`LEAD_KEEP_M`. The same for every vehicle (paths are cut in place).
+    """
+    # stations whose fitting window (a fixed one) stays clear of the feature's own bend
+    reach = LEAD_KEEP_M + opts.window_m
+    lead = [p for p in paths if p.core_start_m > reach + opts.window_m]
+    if not lead:
+        return paths
+    prof = profiles([p.centerline for p in lead], [0.0] * len(lead),
+                    [p.core_start_m - reach for p in lead], opts.step_m, opts.window_m,
+                    margin_m=0.0, adaptive=False)
+    for n, p in enumerate(lead):
+        s, k = prof.stations[n].array(), prof.curvature_per_m[n]
+        tight = np.flatnonzero(radius_from_curvature(k) < LEAD_MIN_RADIUS_M)
+        if not len(tight):
+            continue
+        cut = min(float(s[tight[-1]]) + opts.window_m, p.core_start_m - LEAD_KEEP_M)
+        if cut <= 0:
+            continue
+        p.centerline = cut_polyline(p.centerline, cut, math.inf)
+        p.core_start_m -= cut
+        p.core_end_m -= cut
+    return paths
 
 
 def _sloped(lines: Sequence[np.ndarray]) -> list[bool]:

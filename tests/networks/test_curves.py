@@ -286,3 +286,31 @@ def test_permissions_follow_the_lanes_allow(build_net):
     assert permitted_lanes(from_s)[0] == "SX_0" and permitted_lanes(from_s)[-1] == "XN_0"
     assert permits(net, from_w, "bus") and not permits(net, from_w, "passenger")
     assert permits(net, from_s, "bus") and permits(net, from_s, "passenger")
+
+
+def test_a_lead_in_starts_after_its_last_tight_corner(build_net):
+    # the approach edge has a 6 m radius corner 20 m before junction B (an OSM service
+    # road's), then runs straight east into B, where a right turn leads south
+    arc = _arc(-20, -6, 6, 180, 90, step_deg=10.0)  # from (-26, -6) round to (-20, 0)
+    shape = [(-26, -60), *map(tuple, arc[:, :2]), (0, 0)]
+    nodes = ('<node id="A" x="-26" y="-60"/><node id="B" x="0" y="0" type="priority"/>'
+             '<node id="C" x="0" y="-60"/><node id="D" x="60" y="0"/>')
+    edges = (f'<edge id="AB" from="A" to="B" numLanes="1" shape="{_fmt(shape)}"/>'
+             '<edge id="BC" from="B" to="C" numLanes="1"/>'
+             '<edge id="BD" from="B" to="D" numLanes="1"/>')
+    net = read_network(build_net(nodes, edges))
+    from networks.curves import LEAD_KEEP_M
+
+    by_id = {c.curve_id: c for c in extract_curves(net, ["turn"], CurveOptions(40.0),
+                                                   areas=False)}
+    from networks.geometry import curvature_profile, radius_from_curvature
+
+    straight = by_id["turn:B:AB_0->BD_0"]
+    # it starts after the corner, on the straight part (the corner is 20 m before B,
+    # less B's junction radius), and nothing on the lead-in is tight any more
+    assert LEAD_KEEP_M <= straight.core_start_m < 20.0
+    _, k = curvature_profile(straight.centerline, 0.25, 3.0, 0.0,
+                             straight.core_start_m - LEAD_KEEP_M, adaptive=False)
+    assert radius_from_curvature(k).min() > 15.0
+    # with the corner in it, the lead-in would have reached back the 40 m asked for
+    assert sum(net.lanes[k].length_m for k in straight.lanes[:1]) > 40.0

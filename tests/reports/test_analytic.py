@@ -38,8 +38,9 @@ def test_analytic_cannot_turn_is_the_radius_test(compared):
 def test_analytic_is_less_severe_only_where_the_transient_cannot_turn(compared):
     less = [(v, c, sim, ana) for v, c, sim, ana in compared if ORDER[ana] > ORDER[sim]]
     more = [(v, c, sim, ana) for v, c, sim, ana in compared if ORDER[ana] < ORDER[sim]]
-    # not a bound: both ways occur on the samples
-    assert less and more
+    # more severe on short turns (steady-state offtracking); less severe, if ever, only
+    # where the driven run cannot turn for a reason a steady state does not have
+    assert more
     for v, c, sim, _ in less:
         # a driven cannot-turn on a feature the vehicle could steer in steady state
         assert sim == "cannot-turn", (v.name, c.curve_id)
