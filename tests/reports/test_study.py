@@ -58,6 +58,15 @@ def test_curves_a_vehicle_may_not_use_are_not_permitted_never_run(tmp_path):
     assert s["runs"] == len(study.records) == 3
     # never a failure: the runs that were made are the only verdicts
     assert sum(s["verdicts"].values()) == 3
+    # a table with no vehicle allowed on the bus street: its curve has no verdict, and the
+    # plan figure leaves it out instead of failing
+    from reports.figures import plot_network
+
+    cars = run_study([net], load_tables([bundled_table("aashto_green_book")], names=["P"]),
+                     method="analytic")
+    assert {r.curve_id for r in cars.records} == {"turn:X:SX_0->XN_0"}
+    written = plot_network(cars.networks[0], cars.frame(), tmp_path / "plan")
+    assert written and all(Path(p).stat().st_size > 0 for p in written)
 
 
 def test_a_vehicles_verdicts_do_not_depend_on_the_others_in_the_table(monkeypatch):
