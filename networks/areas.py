@@ -1,8 +1,10 @@
 """The three nested areas that decide a verdict (DESIGN.md §6), as shapely geometry.
 
 ``own_lanes``
-    The curve's centre line buffered by half its lane width (flat ends): the lanes it
-    drives on, trimmed to the part the centre line covers.
+    The curve's designed line (its centre line smoothed as the vehicle follows it,
+    :func:`designed_line`) buffered by half its lane width (flat ends): the lanes it
+    drives on as designed, not SUMO's chords of them, trimmed to the part the centre line
+    covers.
 
 Lane polygons in ``roadway`` and ``paved`` have round ends, so that lanes meeting at an
 angle leave no wedge uncovered on the outside of the joint; lanes and junction polygons
@@ -19,7 +21,8 @@ holes under :data:`MIN_HOLE_M2` (wedges between lane pieces) are filled.
     The roadway plus, for each junction the curve passes through, the junction polygon,
     all its internal lanes and every lane of the edges that meet there (sidewalks and
     the opposite direction included). A bend's neighbourhood is the two junctions of its
-    edge.
+    edge. It always covers the curve's roadway and own lanes (:func:`covering_paved`):
+    every lane the run drives on, lead-in and run-out included.
 
 Areas are built for a batch of curves at a time (:func:`build_areas`; all curves at once
 with :func:`attach_areas`, on demand per batch with :class:`networks.area_book.AreaBook`):
