@@ -62,8 +62,8 @@ DESIGNED = [
     ("roundabout", "SU-30", "roundabout:R0:R0_in_", "R2_out_", "encroaches", -0.77),
     ("roundabout", "WB-62", "roundabout:R0:R0_in_", "R1_out_", "fails", -3.47),
     ("roundabout", "WB-62", "roundabout:C0:C0_in_", "C3_out_", "cannot-turn", -5.73),
-    ("parking_ramp", VAN, "ramp:", "helix", "clear", 0.07),
-    ("parking_ramp", "P", "ramp:", "helix", "fails", -0.15),
+    ("parking_ramp", VAN, "ramp:", "helix", "clear", 0.09),
+    ("parking_ramp", "P", "ramp:", "helix", "fails", -0.13),
 ]
 
 
