@@ -17,7 +17,9 @@ from pathlib import Path
 from networks.samples.build import SAMPLES, SAMPLES_DIR
 from reports.atomic import write_text_atomic
 from reports.document import build_sections, html_document, markdown
-from reports.exports import EnvelopeRecord
+from reports.export_geojson import lonlat_transformer, parse_origin
+from reports.exports import EnvelopeRecord, conflict_parts
+from reports.file_names import file_name
 from reports.options import (
     add_clearance_option,
     add_executor_options,
@@ -42,9 +44,11 @@ DEFAULT_OUTPUT = Path("reports") / "out"
 #: What a report writes into its folder (the folder it may replace holds nothing else).
 LAYOUT = Layout(
     "report",
+    # swept.*: the single export files of earlier versions, replaced by exports/
     files=frozenset({"clearance.csv", "summary.json", "report.md", "report.html",
                      "swept.geojson", "swept.add.xml", "swept.dxf"}),
-    folders={"figures": (".png", ".svg"), "fcd": (".xml",)},
+    folders={"figures": (".png", ".svg", ".jpg"), "fcd": (".xml",),
+             "exports": (".add.xml", ".dxf", ".geojson")},
     signature=("clearance.csv", ",".join(COLUMNS[:4])),
 )
 
@@ -59,9 +63,10 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
         "report",
         help="clearance report: every vehicle through every curve of every network",
         description="Every vehicle x every curve of every network: clearance.csv, "
-                    "summary.json, report.html, report.md with figures, swept.geojson, "
-                    "swept.add.xml (sumo-gui) and swept.dxf (CAD). Without arguments: the "
-                    "bundled sample networks and vehicle tables, output under reports/out/.",
+                    "summary.json, report.html, report.md with figures, and per network "
+                    "under exports/: NET.add.xml (sumo-gui -n NET -a NET.add.xml), NET.dxf "
+                    "(CAD) and NET.geojson (GIS). Without arguments: the bundled sample "
+                    "networks and vehicle tables, output under reports/out/.",
     )
     p.add_argument("-n", "--net", action="append", metavar="NET",
                    help="SUMO network .net.xml[.gz] (repeatable); default: the samples")
@@ -78,34 +83,78 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
                    help="units of lengths shown in the report documents")
     p.add_argument("--fcd", action="store_true",
                    help="also write SUMO FCD output (replay with sumo-gui), simulate only")
+    p.add_argument("--origin", metavar="LAT,LON", default=None,
+                   help="latitude,longitude of the 0,0 point of networks without a "
+                        "projection: their GeoJSON in WGS84 (default: local metres)")
     add_selection_options(p)
     add_waivers_option(p)
     p.set_defaults(run=run)
 
 
 def envelope_records(study: Study) -> list[EnvelopeRecord]:
-    return [EnvelopeRecord(r.network, r.vehicle, r.curve_id, r.kind, r.verdict, r.margin_m,
-                           r.envelope)
-            for r in study.records
-            if r.verdict != "error" and r.envelope is not None and not r.envelope.is_empty]
+    """The exportable runs of ``study``: envelope, offset, conflict with the curve's areas,
+    and the body outlines and wheel paths where the runs carry them."""
+    curves = {(n.name, c.curve_id): c for n in study.networks for c in n.curves}
+    out = []
+    for r in study.records:
+        if r.verdict == "error" or r.envelope is None or r.envelope.is_empty:
+            continue
+        curve = curves.get((r.network, r.curve_id))
+        lanes, paved = (curve.own_lanes, curve.paved) if curve is not None else (None, None)
+        outside_lanes, outside_pavement = conflict_parts(r.envelope, lanes, paved)
+        out.append(EnvelopeRecord(
+            r.network, r.vehicle, r.curve_id, r.kind, r.verdict, r.margin_m, r.envelope,
+            offset_m=r.clearance_m, outside_lanes=outside_lanes,
+            outside_pavement=outside_pavement,
+            body_outlines=tuple(getattr(r, "body_outlines", None) or ()),
+            wheel_paths=tuple(getattr(r, "wheel_paths", None) or ())))
+    return out
+
+
+def export_names(network: str, georeferenced: bool) -> dict[str, str]:
+    """The export files of one network under ``exports/``: sumo-gui, DXF, GeoJSON.
+
+    >>> export_names("roundabout", False)["geojson"]
+    'roundabout.local-metres.geojson'
+    """
+    return {"sumo": file_name([network], ".add.xml"), "dxf": file_name([network], ".dxf"),
+            "geojson": file_name([network], ".geojson" if georeferenced
+                                 else ".local-metres.geojson")}
+
+
+def write_exports(study: Study, folder: Path, origin: tuple[float, float] | None = None
+                  ) -> dict[str, dict[str, str]]:
+    """Each network's sumo-gui additional file, DXF and GeoJSON under ``folder/exports``
+    (:func:`export_names`); returns the names written by network."""
+    from reports.exports import by_network, write_dxf, write_geojson, write_sumo_additional
+
+    groups = by_network(envelope_records(study))
+    written = {}
+    for nc in study.networks:
+        records = groups.get(nc.name, [])
+        location = nc.network.location
+        georef = origin is not None or lonlat_transformer(nc.name, location) is not None
+        names = export_names(nc.name, georef)
+        out = folder / "exports"
+        write_sumo_additional(out / names["sumo"], records)
+        write_dxf(out / names["dxf"], records, nc.network)
+        write_geojson(out / names["geojson"], records, {nc.name: location}, origin)
+        written[nc.name] = names
+    return written
 
 
 def write_report(study: Study, folder: Path, tables: list[Path], units: str = "m",
-                 waived: Waived | None = None) -> None:
+                 waived: Waived | None = None, origin: tuple[float, float] | None = None
+                 ) -> None:
     """Write every output of ``study`` into ``folder`` (which must be new or empty);
-    ``waived`` runs are shown as such (:mod:`reports.waivers`)."""
-    from reports.exports import write_dxf, write_geojson, write_sumo_additional
-
+    ``waived`` runs are shown as such (:mod:`reports.waivers`); ``origin`` (lat, lon)
+    places the networks without a projection in the GeoJSON exports."""
     write_text_atomic(folder / "clearance.csv", clearance_csv(study, waived))
     write_text_atomic(folder / "summary.json", summary_json(study, tables, waived))
+    exports = write_exports(study, folder, origin)
     sections = build_sections(study, folder, units, waived)
     write_text_atomic(folder / "report.md", markdown(study, sections, folder, units))
-    write_text_atomic(folder / "report.html", html_document(study, sections, units))
-    records = envelope_records(study)
-    locations = {n.name: n.network.location for n in study.networks}
-    write_geojson(folder / "swept.geojson", records, locations)
-    write_sumo_additional(folder / "swept.add.xml", records)
-    write_dxf(folder / "swept.dxf", records)
+    write_text_atomic(folder / "report.html", html_document(study, sections, units, exports))
 
 
 def run(args: argparse.Namespace) -> int:
@@ -118,6 +167,7 @@ def run(args: argparse.Namespace) -> int:
     if args.waivers:  # a waiver may name any vehicle of the tables, not only those run
         names = load_tables(tables).names if args.vehicle else table.names
         waivers = read_waivers(Path(args.waivers), names)
+    origin = parse_origin(args.origin) if args.origin else None
     target = Path(args.output) if args.output else DEFAULT_OUTPUT
     with output_folder(target, LAYOUT) as staging:
         fcd = staging / "fcd" if args.fcd else None
@@ -125,7 +175,7 @@ def run(args: argparse.Namespace) -> int:
                           workers=args.workers, scheduler=args.scheduler,
                           selection=selection)
         waived = study_waivers(study.frame(), waivers) if waivers is not None else None
-        write_report(study, staging, tables, args.units, waived)
+        write_report(study, staging, tables, args.units, waived, origin)
     frame = study.frame()
     counts = frame.verdict.value_counts()
     print(f"{len(frame)} runs ({len(table)} vehicles, {len(nets)} networks, "

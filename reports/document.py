@@ -240,7 +240,8 @@ def _img(png: Path, alt: str) -> str:
     return f'<img alt="{html.escape(alt)}" src="data:image/png;base64,{data}">'
 
 
-def html_document(study: Study, sections: list[Section], units: str = "m") -> str:
+def html_document(study: Study, sections: list[Section], units: str = "m",
+                  exports: dict[str, dict[str, str]] | None = None) -> str:
     """``report.html``: one self-contained file (figures embedded, no external assets)."""
     e = html.escape
     out = ["<!DOCTYPE html>", '<html lang="en"><head><meta charset="utf-8">',
