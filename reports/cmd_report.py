@@ -23,6 +23,8 @@ from reports.file_names import file_name
 from reports.options import (
     add_clearance_option,
     add_executor_options,
+    add_net_option,
+    add_output_option,
     add_selection_options,
     add_table_option,
     add_vehicle_option,
@@ -32,6 +34,7 @@ from reports.options import (
 from reports.output_dir import Layout, output_folder
 from reports.study import COLUMNS, METHODS, VERDICT_ORDER, Study, run_study
 from reports.tables import clearance_csv, summary_json
+from reports.text_table import counted
 from reports.waivers import Waived, read_waivers, study_waivers
 from vehicles.table import bundled_table_paths, load_tables
 
@@ -68,12 +71,12 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
                     "(CAD) and NET.geojson (GIS). Without arguments: the bundled sample "
                     "networks and vehicle tables, output under reports/out/.",
     )
-    p.add_argument("-n", "--net", action="append", metavar="NET",
+    add_net_option(p, repeatable=True,
                    help="SUMO network .net.xml[.gz] (repeatable); default: the samples")
     add_table_option(p)
     add_vehicle_option(p)
-    p.add_argument("-o", "--output", metavar="DIR", default=None,
-                   help=f"output folder (default: {DEFAULT_OUTPUT})")
+    add_output_option(p, folder=True, metavar="DIR", default=None,
+                      help=f"output folder (default: {DEFAULT_OUTPUT})")
     p.add_argument("--method", choices=METHODS, default="simulate",
                    help="simulate: drive through libsumo with the kinematic model (default); "
                         "analytic: steady-state geometry")
@@ -165,7 +168,7 @@ def run(args: argparse.Namespace) -> int:
     selection = selection_of(args)
     waivers = None
     if args.waivers:  # a waiver may name any vehicle of the tables, not only those run
-        names = load_tables(tables).names if args.vehicle else table.names
+        names = load_tables(tables, warn=False).names if args.vehicle else table.names
         waivers = read_waivers(Path(args.waivers), names)
     origin = parse_origin(args.origin) if args.origin else None
     target = Path(args.output) if args.output else DEFAULT_OUTPUT
@@ -178,13 +181,14 @@ def run(args: argparse.Namespace) -> int:
         write_report(study, staging, tables, args.units, waived, origin)
     frame = study.frame()
     counts = frame.verdict.value_counts()
-    print(f"{len(frame)} runs ({len(table)} vehicles, {len(nets)} networks, "
-          f"{sum(len(n.curves) for n in study.networks)} curves, method {args.method}) "
+    curves = sum(len(n.curves) for n in study.networks)
+    print(f"{counted(len(frame), 'run')} ({counted(len(table), 'vehicle')}, "
+          f"{counted(len(nets), 'network')}, {counted(curves, 'curve')}, method {args.method}) "
           f"in {time.perf_counter() - t0:.1f} s")
     print("  " + ", ".join(f"{v}: {int(counts.get(v, 0))}"
                            for v in sorted(VERDICT_ORDER, key=VERDICT_ORDER.get)))
     if waived is not None:
-        print(f"  waived: {len(waived)} runs")
+        print(f"  waived: {counted(len(waived), 'run')}")
         for w in waived.unused:
             log.warning("%s: waiver matches no run (curve %r, vehicle %r, network %r)",
                         w.where, w.curve_id, w.vehicle, w.network)

@@ -56,6 +56,8 @@ from reports.exports import EnvelopeRecord
 from reports.file_names import file_name
 from reports.options import (
     add_clearance_option,
+    add_net_option,
+    add_output_option,
     add_selection_options,
     add_table_option,
     add_vehicle_option,
@@ -110,14 +112,14 @@ def add_parser(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParse
             "or cannot-turn. Lengths in metres."
         ),
     )
-    p.add_argument("-n", "--net", required=True, type=Path, help=".net.xml or .net.xml.gz")
+    add_net_option(p, required=True, type=Path)
     add_table_option(p)
     add_vehicle_option(p, required=True, help="vehicle to drive (repeatable)")
     p.add_argument("--curve", action="append", metavar="ID",
                    help="only this curve (repeatable; ids as `clearance curves` lists them)")
     add_selection_options(p, kinds_default="all")
-    p.add_argument("-o", "--output", type=Path, metavar="DIR",
-                   help="write results.csv, envelopes.geojson and trajectories/ here")
+    add_output_option(p, folder=True, metavar="DIR", type=Path,
+                      help="write results.csv, envelopes.geojson and trajectories/ here")
     add_clearance_option(p)
     p.add_argument("--fcd", action="store_true",
                    help="also write SUMO's FCD output (DIR/fcd.xml) for sumo-gui")
