@@ -1,6 +1,7 @@
 """`clearance report` as a user runs it: every output, determinism, atomicity."""
 
 import csv
+import html
 import json
 import math
 import os
@@ -80,6 +81,42 @@ def test_html_is_self_contained(report):
     assert "http://" not in html and "https://" not in html
     assert "<link" not in html and "<script" not in html
     assert "turn:X:XN_in_0-&gt;XW_out_0" in html
+
+
+def test_html_contents_links_and_captions(report, rows):
+    text = (report / "report.html").read_text()
+    ids = set(re.findall(r'\sid="([^"]+)"', text))
+    hrefs = re.findall(r'href="#([^"]+)"', text)
+    assert set(hrefs) <= ids  # every link has its target
+    assert '<nav class="toc"' in text and 'href="#net-intersection-' in text
+    # every matrix row and cell links to its curve's section, and that section lists every
+    # vehicle run on the curve, margins in words with the paved margin
+    matrix = re.findall(r'<tr><td class="id"><a href="#(curve-[^"]+)">([^<]+)</a></td>(.*?)</tr>',
+                        text)
+    assert matrix
+    for target, cid, cells in matrix:
+        assert cells.count(f'href="#{target}"') == len(VEHICLES)
+        section = text.split(f'id="{target}"', 1)[1].split("<h4", 1)[0]
+        curve = html.unescape(cid)
+        runs = [r for r in rows if r["curve_id"] == curve]
+        assert len(runs) == len(VEHICLES)
+        for r in runs:
+            found = re.search(re.escape(f"{r['vehicle']}: {r['verdict']}, ")
+                              + r"(?:([\d.]+) m (beyond|inside) its lanes|no margin)"
+                              r"(?:, ([\d.]+) m (beyond|inside) the pavement)?", section)
+            assert found, (curve, r["vehicle"])
+            for value, side, column in ((found[1], found[2], "margin_m"),
+                                        (found[3], found[4], "paved_margin_m")):
+                m = float(r[column])
+                if not math.isfinite(m):
+                    assert value is None
+                    continue
+                signed = float(value) * (-1 if side == "beyond" else 1)
+                assert signed == pytest.approx(m, abs=0.0051)
+    assert not re.search(r"(?<![\d.])1 (vehicles|curves|runs|networks)\b", text)
+    # compact figures, loaded lazily below the plan
+    assert text.count('loading="lazy"') == text.count("<img") - 1
+    assert len(text.encode()) < 1_000_000
 
 
 def test_markdown_links_its_figures(report):
