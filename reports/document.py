@@ -302,8 +302,8 @@ td.id,th.id{text-align:left;font-family:monospace;white-space:nowrap}
 .matrix thead th{position:sticky;top:0;z-index:2}
 .matrix th.id,.matrix td.id{position:sticky;left:0;background:#fff;z-index:1}
 .matrix thead th.id{z-index:3;background:#f2f2f2}
-.matrix th.v{writing-mode:vertical-rl;transform:rotate(180deg);white-space:nowrap;
-text-align:left;vertical-align:bottom;max-height:14em}
+.matrix th.v{min-width:4.5em;max-width:7em;white-space:normal;overflow-wrap:anywhere;
+font-size:11px;text-align:center;vertical-align:bottom}
 .matrix td a{color:inherit;text-decoration:none;display:block}
 .matrix td a:hover{text-decoration:underline}
 img{max-width:100%;height:auto}
@@ -327,8 +327,8 @@ a{color:inherit;text-decoration:none}
 #: with the curve names, so that each fits a screen and a printed page.
 MATRIX_VEHICLES = 12
 #: Figures in report.html: at most this wide (pixels) and quantised to this many colours.
-HTML_IMAGE_WIDTH_PX = 760
-HTML_IMAGE_COLOURS = 64
+HTML_IMAGE_WIDTH_PX = 720
+HTML_IMAGE_COLOURS = 32
 
 
 def compact_png(png: Path, width_px: int = HTML_IMAGE_WIDTH_PX,
@@ -389,8 +389,10 @@ def _matrix_html(s: Section, links: dict[str, str]) -> list[str]:
     e = html.escape
     out = []
     vehicles = list(s.matrix.columns)
-    for lo in range(0, len(vehicles), MATRIX_VEHICLES):
-        chunk = vehicles[lo:lo + MATRIX_VEHICLES]
+    tables = -(-len(vehicles) // MATRIX_VEHICLES)
+    size = -(-len(vehicles) // max(tables, 1))  # balanced: 37 vehicles in 10, 10, 10, 7
+    for lo in range(0, len(vehicles), size):
+        chunk = vehicles[lo:lo + size]
         if len(vehicles) > MATRIX_VEHICLES:
             out.append(f"<p>Vehicles {lo + 1}–{lo + len(chunk)} of {len(vehicles)}:</p>")
         out.append('<div class="matrix"><table><thead><tr><th class="id">curve</th>'
