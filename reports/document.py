@@ -302,7 +302,7 @@ td.id,th.id{text-align:left;font-family:monospace;white-space:nowrap}
 .matrix thead th{position:sticky;top:0;z-index:2}
 .matrix th.id,.matrix td.id{position:sticky;left:0;background:#fff;z-index:1}
 .matrix thead th.id{z-index:3;background:#f2f2f2}
-.matrix th.v{min-width:4.5em;max-width:7em;white-space:normal;overflow-wrap:anywhere;
+.matrix th.v{min-width:4.5em;max-width:7em;white-space:normal;overflow-wrap:break-word;
 font-size:11px;text-align:center;vertical-align:bottom}
 .matrix td a{color:inherit;text-decoration:none;display:block}
 .matrix td a:hover{text-decoration:underline}
@@ -317,7 +317,10 @@ nav.toc{break-after:page}
 h2{break-before:page}
 .matrix{overflow:visible}
 .matrix thead{display:table-header-group}
-.matrix th,.matrix td{position:static}
+.matrix{break-inside:avoid}
+.matrix thead th,.matrix th.id,.matrix td.id{position:static}
+.matrix table{font-size:7pt}
+.matrix td{white-space:nowrap;padding:1px 3px}
 tr,figure{break-inside:avoid}
 a{color:inherit;text-decoration:none}
 }
