@@ -9,8 +9,11 @@ with ``(x, y)`` the rear-axle centre, ``theta`` the heading (rad, counter-clockw
 angle at the front-axle centre (left turns positive). Holding ``v`` and ``phi`` constant over
 a step, the rear-axle centre moves on a circular arc of signed radius ``rho = l / tan(phi)``
 (a straight line when ``phi = 0``); :func:`arc_step` integrates that arc exactly, so a run at
-constant lock closes its circle. :func:`euler_step` is kept only to reproduce the explicit
-Euler exercise of the robotics article (its points lie on a circle of radius
+constant lock closes its circle. A steering wheel turns at a finite rate: over a step of the
+path follower the steering ramps linearly from its value at the step's start to the new one,
+and :func:`ramp_step` integrates that step to second order (Simpson's rule for the turn, one
+arc for the position; exact when the steering is held). :func:`euler_step` is kept only to
+reproduce the explicit Euler exercise of the robotics article (its points lie on a circle of radius
 ``ds / (2 sin(k ds / 2))``, slightly too large, whose centre is shifted by ``ds / 2``).
 
 Every function works on numpy arrays: one element per vehicle, so a whole batch advances in
@@ -107,6 +110,103 @@ def arc_step(
     chord = ds * np.sinc(half / np.pi)
     mid = theta + half
     return x + chord * np.cos(mid), y + chord * np.sin(mid), theta + dtheta
+
+
+def ramp_arc(
+    phi0_rad: ArrayLike,
+    phi1_rad: ArrayLike,
+    wheelbase_m: ArrayLike,
+    distance_m: ArrayLike,
+    front_steered: ArrayLike = True,
+) -> tuple[FloatArray, FloatArray]:
+    """Reference-axle travel and heading change over a step whose steering ramps linearly.
+
+    Over the step the steering point (the front-axle centre) travels ``distance_m`` at a
+    constant speed while the steering moves linearly in time from ``phi0`` to ``phi1`` (a
+    wheel turned at a finite rate, not a wheel that jumps at the step's start). For a
+    front-steered vehicle the reference (rear) axle moves ``cos(phi)`` as fast as the front
+    axle and the body turns at ``v_f sin(phi) / l``; for a rear-steered one the reference
+    axle is the front axle itself and the body turns at ``v_f tan(phi) / l``. Both
+    integrals are taken by Simpson's rule over the ramp (``phi_m`` its middle)::
+
+        ds = d (f(phi0) + 4 f(phi_m) + f(phi1)) / 6,   f = cos (front-steered) or 1
+        dtheta = d (g(phi0) + 4 g(phi_m) + g(phi1)) / (6 l),   g = sin or tan
+
+    The step is then the arc of length ``ds`` turning by ``dtheta``
+    (:func:`ramp_step`): the steering acts at the step's middle, so the integration is
+    second order in the time step, where holding ``phi0`` over the step is first order.
+
+    Returns
+    -------
+    ds_m, dtheta_rad
+        Distance travelled by the reference axle's centre and the heading change.
+
+    Examples
+    --------
+    A held steering (``phi0 == phi1``) gives the exact arc of :func:`arc_step`:
+
+    >>> ds, dth = ramp_arc(0.3, 0.3, 3.0, 2.0)
+    >>> bool(np.isclose(ds, 2.0 * math.cos(0.3))), bool(np.isclose(dth, ds * math.tan(0.3) / 3))
+    (True, True)
+
+    Straight ahead (the degenerate case) nothing turns:
+
+    >>> [float(v) for v in ramp_arc(0.0, 0.0, 3.0, 1.5, front_steered=False)]
+    [1.5, 0.0]
+    """
+    p0 = np.asarray(phi0_rad, dtype=float)
+    p1 = np.asarray(phi1_rad, dtype=float)
+    pm = 0.5 * (p0 + p1)
+    d = np.asarray(distance_m, dtype=float)
+    l = np.asarray(wheelbase_m, dtype=float)  # noqa: E741
+    front = np.asarray(front_steered, dtype=bool)
+
+    def simpson(f):  # noqa: ANN001, ANN202 - a ufunc
+        return (f(p0) + 4.0 * f(pm) + f(p1)) / 6.0
+
+    ds = np.where(front, d * simpson(np.cos), d)
+    dtheta = np.where(front, d * simpson(np.sin), d * simpson(np.tan)) / l
+    return ds, dtheta
+
+
+def ramp_step(
+    x_m: ArrayLike,
+    y_m: ArrayLike,
+    theta_rad: ArrayLike,
+    distance_m: ArrayLike,
+    phi0_rad: ArrayLike,
+    phi1_rad: ArrayLike,
+    wheelbase_m: ArrayLike,
+    front_steered: ArrayLike = True,
+) -> tuple[FloatArray, FloatArray, FloatArray]:
+    """Advance the reference-axle state over a step whose steering ramps from phi0 to phi1.
+
+    ``distance_m`` is the steering point's travel (front-axle speed times the step); see
+    :func:`ramp_arc` for the travel and turn of the reference axle, which then follows one
+    arc. Exact for a held steering; second order in the step for a ramp.
+
+    Examples
+    --------
+    Held steering: the rear axle of a front-steered vehicle, whose front axle moves
+    ``d``, goes ``d cos(phi)`` along the arc of radius ``l / tan(phi)``:
+
+    >>> x, y, th = ramp_step(0.0, 0.0, 0.0, 1.0, 0.2, 0.2, 3.0)
+    >>> xa, ya, tha = arc_step(0.0, 0.0, 0.0, math.cos(0.2), 0.2, 3.0, 1.0)
+    >>> bool(np.allclose([x, y, th], [xa, ya, tha]))
+    True
+
+    Straight ahead:
+
+    >>> [float(v) for v in ramp_step(0.0, 0.0, 0.0, 2.0, 0.0, 0.0, 3.0)]
+    [2.0, 0.0, 0.0]
+    """
+    ds, dtheta = ramp_arc(phi0_rad, phi1_rad, wheelbase_m, distance_m, front_steered)
+    theta = np.asarray(theta_rad, dtype=float)
+    half = 0.5 * dtheta
+    chord = ds * np.sinc(half / np.pi)
+    mid = theta + half
+    return (np.asarray(x_m, dtype=float) + chord * np.cos(mid),
+            np.asarray(y_m, dtype=float) + chord * np.sin(mid), theta + dtheta)
 
 
 def euler_step(

@@ -90,6 +90,59 @@ class Path:
         return np.stack([xs, np.interp(s, self.station_m, self.xy[:, 1])], axis=-1)
 
 
+def _turn(d1: np.ndarray, d2: np.ndarray) -> float:
+    """Signed turn (rad, left positive) from direction ``d1`` to direction ``d2``."""
+    return math.atan2(d1[0] * d2[1] - d1[1] * d2[0], d1[0] * d2[0] + d1[1] * d2[1])
+
+
+def _arc_weight(p: np.ndarray) -> float:
+    """How much the end of a polyline, its first points ``p``, is taken for a piece of arc.
+
+    An arc sampled evenly (as SUMO draws a helix or a ring, or cut short where a curve
+    starts inside it) has an end chord ``a`` no longer than the next, ``b``, and turns alike
+    at its next two vertices: the same curvature, turn over mean chord, to within 20 %.
+    A straight lead into a corner has the longer end chord, or a turn at the first vertex
+    unlike the next one's. 1 for an arc, 0 for a lead, blended between (``1.25 < a / b < 2``,
+    curvatures within 20-50 % of each other); 0 with fewer than four points (nothing to
+    compare).
+
+    Examples
+    --------
+    >>> a = np.radians([0.0, 5.0, 10.0, 15.0])
+    >>> _arc_weight(np.c_[np.sin(a), 1 - np.cos(a)])
+    1.0
+    >>> _arc_weight(np.array([[0.0, 0.0], [10.0, 0.0], [17.0, 2.0], [20.0, 2.5]]))
+    0.0
+    """
+    if len(p) < 4:
+        return 0.0
+    d = np.diff(p[:4, :2], axis=0)
+    c = np.hypot(d[:, 0], d[:, 1])
+    length = min(max((2.0 - c[0] / max(c[1], 1e-12)) / 0.75, 0.0), 1.0)
+    k1 = _turn(d[0], d[1]) / (0.5 * (c[0] + c[1]))
+    k2 = _turn(d[1], d[2]) / (0.5 * (c[1] + c[2]))
+    big = max(abs(k1), abs(k2))
+    alike = min(abs(k1), abs(k2)) / big if big > 0 and k1 * k2 > 0 else 0.0
+    return float(length * min(max((alike - 0.5) / 0.3, 0.0), 1.0))
+
+
+def _phantom(p: np.ndarray) -> np.ndarray:
+    """A point one chord before ``p[0]``, continuing the polyline ``p`` (Catmull-Rom's end).
+
+    Where the end is a piece of arc (:func:`_arc_weight`) the phantom chord turns like the
+    curve, by ``2 a / (a + b)`` of the turn at ``p[1]`` (chords ``a``, ``b``), so the
+    spline's end lies on the arc with the arc's tangent; where it is a straight lead it
+    continues the first chord straight.
+    """
+    d1, d2 = p[1, :2] - p[0, :2], p[2, :2] - p[1, :2]
+    a, b = math.hypot(*d1), math.hypot(*d2)
+    back = _arc_weight(p) * _turn(d1, d2) * 2 * a / (a + b)  # the phantom chord turns back
+    c, s = math.cos(back), math.sin(back)
+    out = 2 * p[0] - p[1]  # z (a third column) goes on linearly
+    out[:2] = p[0, :2] - np.array([c * d1[0] + s * d1[1], -s * d1[0] + c * d1[1]])
+    return out
+
+
 def catmull_rom(points: ArrayLike, spacing_m: float) -> np.ndarray:
     """A centripetal Catmull-Rom curve through every vertex, sampled about every ``spacing_m``.
 
@@ -121,8 +174,8 @@ def catmull_rom(points: ArrayLike, spacing_m: float) -> np.ndarray:
     pts = np.asarray(points, dtype=float)
     if len(pts) < 3:
         return pts
-    # phantom end points continue the first and last chords
-    ext = np.vstack([2 * pts[0] - pts[1], pts, 2 * pts[-1] - pts[-2]])
+    # phantom end points continue the end chords, turning like the curve there
+    ext = np.vstack([_phantom(pts[:4]), pts, _phantom(pts[:-5:-1])])
     d = np.hypot(*np.diff(ext[:, :2], axis=0).T)
     dt = np.sqrt(np.maximum(d, 1e-12))  # centripetal: alpha = 1/2
     t = np.concatenate([[0.0], np.cumsum(dt)])
@@ -148,30 +201,69 @@ def catmull_rom(points: ArrayLike, spacing_m: float) -> np.ndarray:
 SMOOTH_SIGMA_M = 2.0
 
 
+def _end_tangent(d: np.ndarray) -> np.ndarray:
+    """Unit tangent at an end of a line, from its next points ``d`` relative to the end point.
+
+    A least-squares circle through the end point, ``v = c1 u + c2 (u^2 + v^2)`` in the frame
+    of the chord to the farthest point (a line where ``c2 = 0``; its slope at the end point
+    is ``c1``): the tangent of the curve over the fitted stretch, exact on a circle or a
+    line, which SUMO's 0.01 m rounding of a short end chord does not tilt as it tilts a
+    difference.
+
+    Examples
+    --------
+    Points of the circle of radius 5 m through the origin, tangent along +x there:
+
+    >>> a = np.linspace(0.02, 0.4, 20)
+    >>> t = _end_tangent(np.c_[5 * np.sin(a), 5 * (1 - np.cos(a))])
+    >>> [round(float(v), 6) + 0.0 for v in t]
+    [1.0, 0.0]
+    """
+    far = d[-1] / np.hypot(*d[-1])
+    u = d @ far
+    v = d @ np.array([-far[1], far[0]])
+    c1 = np.linalg.lstsq(np.c_[u, u * u + v * v], v, rcond=None)[0][0]
+    t = far + c1 * np.array([-far[1], far[0]])
+    return t / np.hypot(*t)
+
+
 def smooth_polyline(points: ArrayLike, spacing_m: float, sigma_m: float = SMOOTH_SIGMA_M
                     ) -> np.ndarray:
     """A centre line through SUMO's vertices, smoothed over ``sigma_m`` of arc length.
 
-    A centripetal Catmull-Rom spline through the vertices (:func:`catmull_rom`), resampled
-    every ``spacing_m``, then a Gaussian filter ``G`` along the line whose ends are held
-    (beyond each end the line is mirrored across its normal there, so a straight line goes
-    on straight and a circle round its centre), applied as ``2 G - G G``: kinks shorter than
-    ``sigma_m`` are smoothed out, while a circle keeps its radius (a plain Gaussian would
-    shrink it by ``sigma^2 / 2R``).
+    A centripetal Catmull-Rom spline through the vertices (:func:`catmull_rom`, whose ends
+    continue an arc round), resampled every ``spacing_m``, then a Gaussian filter ``G``
+    along the line whose ends are held (beyond each end the line is mirrored across its
+    normal there, so a straight line goes on straight and a circle round its centre; the
+    normal is that of a circle fitted over ``sigma_m`` at an end that is a piece of arc,
+    so that SUMO's rounding of a short end chord does not tilt it), applied as
+    ``2 G - G G``: kinks shorter than ``sigma_m`` are smoothed out, while a circle keeps its
+    radius (a plain Gaussian would shrink it by ``sigma^2 / 2R``). A line that starts
+    inside a curve starts on it, with its tangent and curvature.
 
     Examples
     --------
-    A circle of radius 10 m keeps its radius to within a centimetre, ends included:
+    A circle of radius 10 m keeps its radius to within a centimetre, ends included, and its
+    tangent at the ends: the first 0.1 m chord turns from the tangent by half its arc,
+    0.29 degrees, to within 0.01 degrees (the input's first chord turns by 0.5 degrees):
 
     >>> a = np.radians(np.linspace(0, 270, 271))
     >>> c = smooth_polyline(np.c_[10 * np.cos(a), 10 * np.sin(a)], 0.1)
     >>> r = np.hypot(c[:, 0], c[:, 1])
-    >>> bool(np.abs(r - 10).max() < 0.01), bool(np.hypot(*(c[0] - [10.0, 0.0])) < 0.001)
+    >>> bool(np.abs(r - 10).max() < 0.01), bool(np.hypot(*(c[0] - [10.0, 0.0])) < 0.005)
     (True, True)
+    >>> d = c[1] - c[0]
+    >>> half_arc = math.degrees(math.hypot(*d) / 20.0)
+    >>> bool(abs(math.degrees(math.atan2(d[1], d[0])) - 90.0 - half_arc) < 0.01)
+    True
     >>> smooth_polyline([(0.0, 0.0), (10.0, 0.0)], 1.0)[:, 1].tolist() == [0.0] * 11
     True
     """
-    pts = catmull_rom(points, spacing_m)
+    vertices = np.asarray(points, dtype=float)
+    # at an end that is a piece of arc the mirror's normal is a fitted circle's (SUMO's 1 cm
+    # rounding tilts a short end chord); elsewhere the line's own, from the last 0.2 m
+    arc_end = (_arc_weight(vertices), _arc_weight(vertices[::-1]))
+    pts = catmull_rom(vertices, spacing_m)
     seg = np.hypot(*np.diff(pts[:, :2], axis=0).T)
     pts = pts[np.concatenate([[True], seg > 1e-9])]
     s = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(pts[:, :2], axis=0).T))])
@@ -183,6 +275,7 @@ def smooth_polyline(points: ArrayLike, spacing_m: float, sigma_m: float = SMOOTH
     if half < 1 or n < 3:
         return res
     half = min(half, n - 1)
+    fit = max(3, min(half, int(math.ceil(sigma_m / h))))  # the end tangent's fit: sigma_m
     kernel = np.exp(-0.5 * (np.arange(-half, half + 1) * h / sigma_m) ** 2)
     kernel /= kernel.sum()
 
@@ -190,11 +283,14 @@ def smooth_polyline(points: ArrayLike, spacing_m: float, sigma_m: float = SMOOTH
         # the points next to an end, mirrored across the line's normal there: a straight
         # line goes on straight and a circle goes on round its own centre
         p0 = a[end]
-        # second-order one-sided difference: the tangent of a curve, not of a chord
-        tan = 4 * a[end + step, :2] - a[end + 2 * step, :2] - 3 * p0[:2]
-        tan = tan / np.hypot(*tan)
         near = a[end + step: end + step * (half + 1): step] if step > 0 else \
             a[end - 1: end - half - 1: -1]
+        # second-order one-sided difference: the tangent of a curve, not of a chord
+        tan = 4 * a[end + step, :2] - a[end + 2 * step, :2] - 3 * p0[:2]
+        w = arc_end[0 if step > 0 else 1]
+        if w > 0.0:
+            tan = (1.0 - w) * tan / np.hypot(*tan) + w * _end_tangent(near[:fit, :2] - p0[:2])
+        tan = tan / np.hypot(*tan)
         d = near[:, :2] - p0[:2]
         refl = near.copy()
         refl[:, :2] = p0[:2] + d - 2 * (d @ tan)[:, None] * tan
@@ -288,8 +384,16 @@ def prepare_path(
     r = 0.5 * np.minimum(seg_len[:-1], seg_len[1:])
     ramp_s = np.stack([vert_station[1:-1] - r, vert_station[1:-1] + r], axis=1).ravel()
     ramp_h = np.stack([seg_heading[:-1], seg_heading[1:]], axis=1).ravel()
+    # the end headings: each end chord's own where it leads straight into the next vertex,
+    # the arc's tangent (the chord's, turned back by the arc over half a chord) where the
+    # chords are alike, as on a finely sampled curve
+    h_start, h_end = seg_heading[0], seg_heading[-1]
+    if len(seg_len) > 1:
+        a0, b0, a1, b1 = seg_len[0], seg_len[1], seg_len[-1], seg_len[-2]
+        h_start -= _arc_weight(pts) * (seg_heading[1] - seg_heading[0]) * a0 / (a0 + b0)
+        h_end += _arc_weight(pts[::-1]) * (seg_heading[-1] - seg_heading[-2]) * a1 / (a1 + b1)
     brk_s = np.concatenate([[0.0], ramp_s, [length]])
-    brk_h = np.concatenate([[seg_heading[0]], ramp_h, [seg_heading[-1]]])
+    brk_h = np.concatenate([[h_start], ramp_h, [h_end]])
     n = max(2, math.ceil(length / spacing_m - 1e-9) + 1)
     station = np.minimum(np.arange(n) * spacing_m, length)
     station[-1] = length

@@ -4,22 +4,41 @@ Controller
 ----------
 A Stanley-type law on the front-axle centre (the steering point)::
 
-    phi_cmd = wrap(theta_path - theta) - atan(k e / (v_f + v_soft))
+    phi_cmd = wrap(theta_path - theta) - psi_a(e)
 
 ``theta_path`` is the centre line's smooth tangent at the front axle's projection, ``e`` the
-front axle's signed lateral offset (left positive), ``v_f`` its speed and ``k`` the gain
-(1/s). The first term is the path's curvature feed-forward: on a circle of radius ``R``
-followed exactly it equals ``atan(l / sqrt(R^2 - l^2))``, the steady-state steering angle,
-and it grows while the path turns ahead of the body; the second term steers the front wheels
-toward the line so that ``e' = -v_f sin(atan(k e / v_f)) ~ -k e``. The command then passes the
-steering-rate limit and the lock (:func:`analysis.kinematics.limit_steering`) and is held
-over the step, which is integrated exactly (:func:`analysis.kinematics.arc_step`); a trailer
-follows by RK4 (:func:`analysis.trailer.advance_articulation`).
+front axle's signed lateral offset (left positive), ``v_f`` its speed. The first term is the
+path's curvature feed-forward: on a circle of radius ``R`` followed exactly it equals
+``asin(l / R)``, the steady-state steering angle, and it grows while the path turns ahead
+of the body; the second steers the front wheels toward the line at the approach angle
+``psi_a(e) = atan(k e / (v_f + v_soft))`` (``k`` the gain, 1/s), so that
+``e' = -v_f sin(psi_a) ~ -k e``, but no steeper than the wheel can take back: approaching
+at ``psi_a(e)`` the wheel turns at ``psi_a'(e) v_f sin(psi_a)``, held to half the steering
+rate (:func:`analysis.tracking_loop.approach_angle`).
+
+A wheel turned at a finite rate (a car's road wheels go lock to lock in about 4 s) reaches a
+command only later, while the body goes on turning: asked for what the state needs now,
+the wheel comes too late, and after a corner tighter than the lock the plain law swings from
+lock to lock. So the command is the steering ``c`` that the law asks for at the moment the
+wheel reaches it (:func:`analysis.tracking_loop.predictive_stanley`): the body's turn and
+the front axle's drift while the wheel turns from ``phi`` to ``c`` at the rate, the path's
+heading there, and, where ``c`` lies beyond the path's steady steering there, the body's
+turn while the wheel comes back to it. These corrections are of second order in the
+steering's change: on a smooth path, and in the steady state, the law is Stanley's; after
+a corner tighter than the lock the vehicle rejoins the centre line without crossing it.
+
+The command passes the steering-rate limit and the lock
+(:func:`analysis.kinematics.limit_steering`); over the step the wheel turns linearly from
+its old angle to the new one, and the step is integrated to second order in the time step
+(:func:`analysis.kinematics.ramp_step`: exact while the steering is held); a trailer's
+articulation follows along the same arc by RK4 (:func:`analysis.trailer.advance_articulation`).
 
 Runs, speed and ending
 ----------------------
 The vehicle starts with its front axle on the path's first point, heading along the path,
-steering straight, trailer in line. The speed profile gives the front axle's speed; the rear
+in the steady state of the path's first two metres (:func:`start_pose`): straight on a
+straight start; on a curve of radius ``R`` its rear axle on ``sqrt(R^2 - l^2)`` and the
+trailer at its steady articulation. The speed profile gives the front axle's speed; the rear
 axle of a front-steered vehicle moves at ``v_f cos(phi)``. A run ends when the front axle's
 projection reaches the end of the path (the last step is shortened to land on it), when the
 lateral error exceeds ``abort_factor * tolerance_m`` (no point driving on), when the
@@ -86,8 +105,8 @@ class TrackingSettings:
     Attributes
     ----------
     dt_s
-        Time step (s). The arcs are exact whatever the step; the step sets how often the
-        controller acts (0.1 s: every 0.2 m at crawl speed).
+        Time step (s): how often the controller acts (0.1 s: every 0.2 m at crawl speed).
+        A held steering is integrated exactly, a turning one to second order in the step.
     speed
         Front-axle speed: a constant (m/s) or a :class:`~analysis.kinematics.SpeedProfile`.
     tolerance_m
@@ -144,8 +163,9 @@ class TrackingSettings:
 class Trajectory:
     """Sampled states of one run; every array has one entry per sample.
 
-    Sample ``k`` is the state at time ``t_s[k]``; ``phi_rad[k]`` is the steering held from
-    ``t_s[k]`` to ``t_s[k + 1]`` (the last one repeats). Trailer arrays are ``None`` for a
+    Sample ``k`` is the state at time ``t_s[k]``, ``phi_rad[k]`` the steering then; from
+    ``t_s[k]`` to ``t_s[k + 1]`` the wheel turns linearly from ``phi_rad[k]`` to
+    ``phi_rad[k + 1]`` (:func:`analysis.kinematics.ramp_step`). Trailer arrays are ``None`` for a
     vehicle without a trailer.
 
     Attributes
@@ -384,6 +404,46 @@ def _start_curvature(curvature: FloatArray, spacing: FloatArray, n_pts: NDArray[
                      for i, c in enumerate(curvature)])
 
 
+def start_pose(k0: ArrayLike, heading0: ArrayLike, wheelbase_m: ArrayLike,
+               lock_rad: ArrayLike, rear_steer: ArrayLike) -> tuple[FloatArray, FloatArray]:
+    """Steering and body heading of a vehicle whose front axle starts on a circle.
+
+    The front-axle centre starts on the path heading along it, on a curve of curvature
+    ``k0``. A front-steered vehicle's front axle runs on radius ``R = 1 / k0`` when its rear
+    axle runs on ``rho = sqrt(R^2 - l^2)``, so ``sin(phi) = l / R`` (``tan(phi) = l / rho``)
+    and the body points ``phi`` to the inside of the front axle's heading. A rear-steered
+    vehicle's front axle is its reference point: ``tan(phi) = l k0`` and the body points
+    along the path. A curve tighter than the lock starts at the lock.
+
+    Returns
+    -------
+    phi_rad, theta_rad
+
+    Examples
+    --------
+    A car of wheelbase 3 m starting on a 5 m circle: its rear axle is on the 4 m circle.
+
+    >>> phi, th = start_pose(0.2, 0.0, 3.0, 0.7, False)
+    >>> round(float(3.0 / np.tan(phi)), 9), round(float(th), 6)
+    (4.0, -0.643501)
+
+    Straight (the degenerate case), or tighter than the lock:
+
+    >>> [float(v) for v in start_pose(0.0, 0.5, 3.0, 0.7, False)]
+    [0.0, 0.5]
+    >>> float(start_pose(1.0, 0.0, 3.0, 0.7, False)[0])
+    0.7
+    """
+    k = np.asarray(k0, dtype=float)
+    l = np.asarray(wheelbase_m, dtype=float)  # noqa: E741
+    lock = np.asarray(lock_rad, dtype=float)
+    rear = np.asarray(rear_steer, dtype=bool)
+    front_phi = np.arcsin(np.clip(l * k, -1.0, 1.0))
+    phi = np.clip(np.where(rear, np.arctan(l * k), front_phi), -lock, lock)
+    th = np.asarray(heading0, dtype=float) - np.where(rear, 0.0, phi)
+    return phi, th
+
+
 def _pad(
     paths: list[Path],
 ) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray, NDArray[np.intp]]:
@@ -427,10 +487,9 @@ def _run(vehicles: list[Vehicle], paths: list[Path], st: TrackingSettings) -> li
     abort_m = st.abort_factor * st.tolerance_m
 
     # Start in the steady state of the path's first two metres: a run that begins inside a curve
-    # (a helix, a roundabout ring) starts with its wheels already turned, within the lock.
-    k0 = _start_curvature(curvature, spacing, n_pts)
-    phi = np.where(rear_steer, 0.0, np.clip(np.arctan(wb * k0), -lock, lock))
-    th = heading[:, 0] - phi  # the front axle moves along the path: theta + phi = heading
+    # (a helix, a roundabout ring) starts on its steady circle, wheels turned, within the lock.
+    phi, th = start_pose(k0=_start_curvature(curvature, spacing, n_pts), heading0=heading[:, 0],
+                         wheelbase_m=wb, lock_rad=lock, rear_steer=rear_steer)
     x = xy[:, 0, 0] - ahead * np.cos(th)
     y = xy[:, 0, 1] - ahead * np.sin(th)
     with np.errstate(divide="ignore", invalid="ignore"):

@@ -3,7 +3,9 @@
 A *path* is an ordered list of lane ids a vehicle drives: approach lanes, the core (the
 lanes of the feature: a junction's internal lanes, a ring, a ramp), exit lanes. The
 approach is extended back through upstream lanes when the approach lane is shorter than
-wanted (preferring straight-on connections), the exit forward likewise.
+wanted (preferring straight-on connections), the exit forward likewise, only through lanes
+a road vehicle may drive (:func:`drivable`) and only straight on (never through a turn or
+a U-turn, which are neighbouring curves).
 """
 
 from __future__ import annotations
@@ -14,8 +16,7 @@ from itertools import compress
 import numpy as np
 
 from networks.geometry import MIN_CHORD_M
-from networks.lane_table import LaneTable
-from networks.reader import Connection, Network
+from networks.reader import ROAD_VCLASSES, Connection, Network
 
 #: Preference among connection directions when a path is extended (straight on first).
 _DIR_RANK = {"s": 0, "R": 1, "L": 2, "r": 3, "l": 4, "t": 6}
@@ -65,6 +66,48 @@ def via_lanes(net: Network, conn: Connection) -> list[str] | None:
     return out
 
 
+#: Edge functions no vehicle drives on, whatever their lanes allow.
+NOT_ROADS = frozenset(("walkingarea", "crossing"))
+
+
+def drivable(net: Network, lane_id: str) -> bool:
+    """Whether a road vehicle may drive a lane: it admits a passenger car, bus, truck,
+    coach, delivery van or trailer (SUMO's ``allow``/``disallow``), and it is not a
+    walking area or crossing. Sidewalks, rails and bicycle-only lanes are not.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from networks.reader import Lane, Location, Network
+    >>> def lane(i, allowed, function="normal"):
+    ...     return Lane(i, i[:-2], 0, 3.2, function, frozenset(allowed), np.zeros((2, 3)), 1.0, 9.0)
+    >>> lanes = {"s_0": lane("s_0", {"pedestrian"}), "r_0": lane("r_0", {"passenger"}),
+    ...          "w_0": lane("w_0", {"passenger"}, "walkingarea")}
+    >>> net = Network(None, lanes, {}, [], {}, [], Location())
+    >>> drivable(net, "r_0"), drivable(net, "s_0"), drivable(net, "w_0"), drivable(net, "x")
+    (True, False, False, False)
+    """
+    lane = net.lanes.get(lane_id)
+    return (lane is not None and lane.function not in NOT_ROADS
+            and not lane.allowed.isdisjoint(ROAD_VCLASSES))
+
+
+#: Connection directions a lead-in or run-out may be extended through: straight on and
+#: SUMO's partial turns. A right or left turn, or a U-turn, before a feature is a curve of
+#: its own (its neighbour's), never part of this one's lead-in.
+EXTEND_DIRECTIONS = frozenset(("s", "R", "L"))
+
+
+def _may_extend(net: Network, conn: Connection, lane_id: str) -> bool:
+    """A connection an approach or exit may be extended through: straight on or a partial
+    turn (:data:`EXTEND_DIRECTIONS`), onto a drivable lane, and through drivable internal
+    lanes only."""
+    if conn.direction not in EXTEND_DIRECTIONS or not drivable(net, lane_id):
+        return False
+    vias = via_lanes(net, conn) or []
+    return all(drivable(net, v) for v in vias)
+
+
 def _rank(conn: Connection) -> tuple[int, str]:
     return (_DIR_RANK.get(conn.direction, 5), conn.from_lane + ">" + conn.to_lane)
 
@@ -75,12 +118,13 @@ def _is_internal(net: Network, lane_id: str) -> bool:
 
 
 def extend_back(
-    net: Network, lane_id: str, need_m: float, table: LaneTable | None = None
+    net: Network, lane_id: str, need_m: float
 ) -> list[str]:
     """Lanes upstream of ``lane_id`` (farthest first) covering at least ``need_m`` metres.
 
-    Follows the straightest connection into each lane (its internal lanes included);
-    stops early where nothing leads in, at a loop, or after :data:`MAX_EXTENSION_LANES`.
+    Follows the straightest connection into each lane (its internal lanes included) that
+    a road vehicle may drive and that goes straight on (:func:`_may_extend`); stops early
+    where nothing leads in, at a loop, or after :data:`MAX_EXTENSION_LANES`.
     """
     out: list[str] = []
     seen = {lane_id}
@@ -90,6 +134,7 @@ def extend_back(
             c
             for c in net.incoming(cur)
             if not _is_internal(net, c.from_lane) and c.from_lane not in seen
+            and _may_extend(net, c, c.from_lane)
         ]
         if not cands:
             break
@@ -98,20 +143,22 @@ def extend_back(
         step = [conn.from_lane, *vias]
         out[:0] = step
         seen.update(step)
-        need_m -= sum(lane_length(net, k, table) for k in step)
+        need_m -= sum(lane_length(net, k) for k in step)
         cur = conn.from_lane
     return out
 
 
 def extend_forward(
-    net: Network, lane_id: str, need_m: float, table: LaneTable | None = None
+    net: Network, lane_id: str, need_m: float
 ) -> list[str]:
-    """Lanes downstream of ``lane_id`` (nearest first) covering at least ``need_m`` metres."""
+    """Lanes downstream of ``lane_id`` (nearest first) covering at least ``need_m`` metres
+    (as :func:`extend_back`: drivable lanes only, straight on only)."""
     out: list[str] = []
     seen = {lane_id}
     cur = lane_id
     while need_m > 0 and len(out) < MAX_EXTENSION_LANES:
-        cands = [c for c in net.outgoing(cur) if c.to_lane in net.lanes and c.to_lane not in seen]
+        cands = [c for c in net.outgoing(cur) if c.to_lane in net.lanes and c.to_lane not in seen
+                 and _may_extend(net, c, c.to_lane)]
         if not cands:
             break
         conn = min(cands, key=_rank)
@@ -119,22 +166,19 @@ def extend_forward(
         step = [*vias, conn.to_lane]
         out.extend(step)
         seen.update(step)
-        need_m -= sum(lane_length(net, k, table) for k in step)
+        need_m -= sum(lane_length(net, k) for k in step)
         cur = conn.to_lane
     return out
 
 
-def lane_length(net: Network, lane_id: str, table: LaneTable | None = None) -> float:
-    """Plane length of a lane's shape (metres; from ``table`` when given)."""
-    return table.length_m(lane_id) if table is not None else net.lane_line(lane_id)[1]
+def lane_length(net: Network, lane_id: str) -> float:
+    """Plane length of a lane's shape (metres)."""
+    return net.lane_line(lane_id)[1]
 
 
-def _total_length(net: Network, lanes: list[str], table: LaneTable | None) -> float:
+def _total_length(net: Network, lanes: list[str]) -> float:
     """Sum of the lanes' plane lengths, added in order from 0."""
-    if table is None:
-        return sum(lane_length(net, k) for k in lanes)
-    length, index = table.lengths, table.index
-    return sum([length[index[k]] for k in lanes])
+    return sum(lane_length(net, k) for k in lanes)
 
 
 @dataclass(slots=True)
@@ -183,7 +227,6 @@ def plan_path(
     exit_m: float,
     core_from_m: float = 0.0,
     core_to_m: float | None = None,
-    table: LaneTable | None = None,
 ) -> PathPlan:
     """Choose the lanes of a path: ``before`` + ``core`` + ``after``, extended as needed.
 
@@ -192,19 +235,19 @@ def plan_path(
     (less the part of the core lanes outside the core). ``core_from_m`` / ``core_to_m``
     place the core inside the concatenated core lanes (default: all of them).
     """
-    core_total = _total_length(net, core, table)
+    core_total = _total_length(net, core)
     c_from = min(max(core_from_m, 0.0), core_total)
     c_to = core_total if core_to_m is None else min(max(core_to_m, c_from), core_total)
-    before_len = _total_length(net, before, table)
-    after_len = _total_length(net, after, table)
+    before_len = _total_length(net, before)
+    after_len = _total_length(net, after)
     need_back = approach_m - c_from - before_len
     if need_back > 0:
         first = before[0] if before else core[0]
-        before = extend_back(net, first, need_back, table) + before
+        before = extend_back(net, first, need_back) + before
     need_fwd = exit_m - (core_total - c_to) - after_len
     if need_fwd > 0:
         last = after[-1] if after else core[-1]
-        after = after + extend_forward(net, last, need_fwd, table)
+        after = after + extend_forward(net, last, need_fwd)
     return PathPlan(
         before + core + after, len(before), len(core), c_from, c_to, core_total, approach_m, exit_m
     )
@@ -213,30 +256,18 @@ def plan_path(
 _GAP = 10.0  # key distance between consecutive paths in a batch
 
 
-def realise(net: Network, plans: list[PathPlan], table: LaneTable | None = None) -> list[Path]:
+def realise(net: Network, plans: list[PathPlan]) -> list[Path]:
     """Make the centre lines of many planned paths at once (vectorised).
 
     Each centre line is its lanes' shapes joined, cut to ``approach_m`` before the core and
-    ``exit_m`` after it (where the lanes reach that far), without repeated points. With a
-    ``table`` (:class:`~networks.lane_table.LaneTable`), the lane shapes come from it and
-    the paths' lane ids are the network's own strings.
+    ``exit_m`` after it (where the lanes reach that far), without repeated points.
     """
     if not plans:
         return []
     n_pieces = np.array([len(p.lanes) for p in plans])
-    if table is None:
-        lane_lines = [net.lane_line(k)[0] for p in plans for k in p.lanes]
-        piece_counts = np.fromiter(map(len, lane_lines), dtype=np.int64, count=len(lane_lines))
-        pts = np.concatenate(lane_lines)
-        names = None
-    else:
-        index = table.index
-        rows = np.fromiter(
-            (index[k] for p in plans for k in p.lanes), dtype=np.int64, count=int(n_pieces.sum())
-        )
-        pts, piece_counts = table.gather(rows)
-        ids = table.ids
-        names = [ids[i] for i in rows.tolist()]
+    lane_lines = [net.lane_line(k)[0] for p in plans for k in p.lanes]
+    piece_counts = np.fromiter(map(len, lane_lines), dtype=np.int64, count=len(lane_lines))
+    pts = np.concatenate(lane_lines)
     piece_first = np.concatenate(([0], np.cumsum(piece_counts)[:-1]))
     piece_last = piece_first + piece_counts - 1
     plan_first_piece = np.concatenate(([0], np.cumsum(n_pieces)[:-1]))
@@ -302,7 +333,7 @@ def realise(net: Network, plans: list[PathPlan], table: LaneTable | None = None)
     starts_l, ends_l = starts.tolist(), ends.tolist()
     for c, plan in enumerate(plans):
         f = first_piece[c]
-        own = plan.lanes if names is None else names[f : f + len(plan.lanes)]
+        own = plan.lanes
         core = tuple(own[plan.n_before : plan.n_before + plan.n_core])
         lanes = tuple(compress(own, on_list[f : f + len(own)])) or core
         paths.append(Path(lanes, lines[c], starts_l[c], ends_l[c], core))

@@ -4,8 +4,7 @@ Only what curve extraction needs is kept: lanes (with 3-D shapes as numpy arrays
 connections, junction polygons, roundabouts and the location. The parser is lxml's
 target (SAX-style) parser with entity resolution and network access off: no tree is
 built, so memory grows with the geometry, not with the XML. Shapes are kept as strings
-while reading and parsed in bulk at the end (:func:`parse_shapes`). A large plain file is
-read in two parts at once, on two cores (:mod:`networks.read_split`), with the same result.
+while reading and parsed in bulk at the end (:func:`parse_shapes`).
 
 Example
 -------
@@ -18,13 +17,15 @@ from __future__ import annotations
 
 import gc
 import logging
+import math
 import os
 from collections import defaultdict
 from collections.abc import Iterator
 from contextlib import contextmanager
 from dataclasses import dataclass, field
 from functools import partial
-from itertools import islice
+from itertools import islice, repeat
+from operator import attrgetter, itemgetter
 from pathlib import Path
 from sys import intern
 from typing import NamedTuple
@@ -32,14 +33,26 @@ from typing import NamedTuple
 import numpy as np
 from lxml import etree
 
-from networks.safe_xml import open_binary, scan_prolog
-from networks.shapes import EMPTY_SHAPE, parse_shapes
+from networks.safe_xml import (
+    MAX_ELEMENTS_ENV,
+    max_elements,
+    open_binary,
+    read_chunks,
+    scan_prolog,
+    too_big,
+)
+from networks.shapes import EMPTY_SHAPE, MAX_COORD_M, parse_shapes
 from vehicles.errors import InputError
 
 log = logging.getLogger(__name__)
 
 #: SUMO's lane width when a lane has none (``SUMO_const_laneWidth``).
 DEFAULT_LANE_WIDTH_M = 3.2
+
+#: The widest lane accepted, in metres. Road lanes are 2.5-4.5 m wide and netconvert's
+#: widest defaults (sidewalks, wide shoulders, OSM squares mapped as one lane) stay well under
+#: 20 m; a lane of 50 m or more is a broken file, not a road. A width must also be > 0.
+MAX_LANE_WIDTH_M = 50.0
 
 #: Every SUMO vehicle class (``allow="all"`` means these).
 SUMO_VCLASSES = frozenset(
@@ -222,25 +235,24 @@ def read_network(path: str | os.PathLike[str]) -> Network:
     Raises
     ------
     InputError
-        The file is missing, not XML, truncated, declares entities, is not a SUMO network,
-        or holds no edges.
+        The file is missing, not a regular file, not XML, truncated, declares entities, is
+        larger than the caps of :mod:`networks.safe_xml`, is not a SUMO network, holds no
+        edges, holds a number outside its physical range (a lane width outside
+        (0, :data:`MAX_LANE_WIDTH_M`], a coordinate beyond :data:`~networks.shapes.MAX_COORD_M`,
+        a NaN anywhere) or a reference SUMO itself would refuse (:func:`check_references`).
     """
     p = Path(path)
     root_tag = scan_prolog(p)
     if root_tag != "net":
         raise InputError(f"{p}: not a SUMO network (root element <{root_tag}>, expected <net>)")
     with gc_paused():  # a million objects that live on: collections would only scan them
-        from networks.read_split import read_in_two, split_offset
-
-        offset = split_offset(p)
-        if offset is not None and (state := read_in_two(p, offset)) is not None:
-            return state.finish()
         state = _ParseState(p)
         parser = make_parser(state)
         try:
             with open_binary(p) as fh:
-                while chunk := fh.read(_CHUNK_BYTES):
+                for chunk in read_chunks(fh, p, _CHUNK_BYTES):
                     parser.feed(chunk)
+                    state.check_size()
             parser.close()
         except etree.XMLSyntaxError as exc:
             raise InputError(f"{p}: malformed or truncated XML ({exc})") from exc
@@ -250,7 +262,14 @@ def read_network(path: str | os.PathLike[str]) -> Network:
 
 
 def make_parser(state: _ParseState) -> etree.XMLParser:
-    """lxml's target parser feeding ``state``: no entities, no network, no DTD, no tree."""
+    """lxml's target parser feeding ``state``: no entities, no network, no DTD, no tree.
+
+    ``collect_ids`` keeps its default on purpose: ``collect_ids=False`` makes lxml set
+    libxml2's ``XML_SKIP_IDS`` in the context's ``loadsubset``, and libxml2 loads the
+    external DTD whenever ``loadsubset`` is not zero, whatever ``load_dtd`` says (a
+    ``<!DOCTYPE net SYSTEM "fifo">`` then hung the reader). A target parser builds no tree,
+    so there are no ids to collect anyway.
+    """
     return etree.XMLParser(
         target=state,
         resolve_entities=False,
@@ -259,18 +278,7 @@ def make_parser(state: _ParseState) -> etree.XMLParser:
         huge_tree=True,
         remove_comments=True,
         remove_pis=True,
-        collect_ids=False,
     )
-
-
-def cores() -> int:
-    """How many cores the reader and the areas may use: ``CLEARANCE_THREADS`` if set, else
-    the cores this process may run on (at most 4)."""
-    env = os.environ.get("CLEARANCE_THREADS", "").strip()
-    if env.isdigit() and int(env) > 0:
-        return int(env)
-    return max(1, min(4, len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity")
-                      else os.cpu_count() or 1))
 
 
 @contextmanager
@@ -346,7 +354,18 @@ def _floats(text: str | None, n: int, default: tuple[float, ...]) -> tuple[float
     if not text:
         return default
     vals = tuple(float(v) for v in text.split(","))
+    if not all(map(math.isfinite, vals)):
+        raise ValueError(f"{text[:60]!r} is not finite")
     return vals if len(vals) == n else default
+
+
+def _coordinate(text: str) -> float:
+    """A junction's coordinate: finite and within :data:`MAX_COORD_M`."""
+    value = float(text)
+    if not abs(value) <= MAX_COORD_M:
+        raise ValueError(f"coordinate {text[:40]!r} is not a number within "
+                         f"+/-{MAX_COORD_M:g} m")
+    return value
 
 
 class _ParseState:
@@ -405,10 +424,13 @@ class _ParseState:
                 if lane_id is None:
                     raise InputError(f"{self.path}: a <lane> of edge {edge.id!r} has no id")
                 width = get("width")
+                width_m = float(width) if width is not None else DEFAULT_LANE_WIDTH_M
+                if not 0.0 < width_m <= MAX_LANE_WIDTH_M:  # NaN too
+                    raise InputError(f"{self.path}: lane {lane_id!r}: width {width!r}: not a "
+                                     f"width in (0, {MAX_LANE_WIDTH_M:g}] m")
                 self.lane_shapes.append(get("shape") or "")
                 self.lanes[lane_id] = Lane(
-                    lane_id, edge.id, int(get("index", "0")),
-                    float(width) if width is not None else DEFAULT_LANE_WIDTH_M,
+                    lane_id, edge.id, int(get("index", "0")), width_m,
                     edge.function, resolve_allowed(get("allow"), get("disallow")), EMPTY_SHAPE,
                     float(get("length", "nan")), float(get("speed", "nan")))
                 edge.lanes.append(lane_id)
@@ -416,6 +438,8 @@ class _ParseState:
                 edge_id = get("id")
                 if edge_id is None:
                     raise InputError(f"{self.path}: an <edge> has no id")
+                if edge_id in self.edges:
+                    raise InputError(f"{self.path}: edge {edge_id!r} is defined twice")
                 self.edge = self.edges[edge_id] = Edge(
                     edge_id, get("from", ""), get("to", ""), get("function", "normal"),
                     int(get("priority", "-1")), [])
@@ -440,9 +464,9 @@ class _ParseState:
             self.junctions[jid] = Junction(
                 jid,
                 get("type", ""),
-                float(get("x", "0")),
-                float(get("y", "0")),
-                float(get("z", "0")),
+                _coordinate(get("x", "0")),
+                _coordinate(get("y", "0")),
+                _coordinate(get("z", "0")),
                 EMPTY_SHAPE,
                 tuple((get("incLanes") or "").split()),
                 tuple((get("intLanes") or "").split()),
@@ -456,6 +480,8 @@ class _ParseState:
             )
         elif tag == "location":
             off = _floats(get("netOffset"), 2, (0.0, 0.0))
+            if not max(map(abs, off)) <= MAX_COORD_M:
+                raise ValueError(f"netOffset {get('netOffset')!r} beyond +/-{MAX_COORD_M:g} m")
             self.location_seen = True
             self.location = Location(
                 net_offset=(off[0], off[1]),
@@ -466,6 +492,15 @@ class _ParseState:
 
     def close(self) -> None:
         """Called by lxml at the end of the document."""
+
+    def check_size(self) -> None:
+        """Refuse more elements than :func:`~networks.safe_xml.max_elements` (called after
+        each chunk fed: a chunk adds at most about 150,000)."""
+        n = (len(self.connection_rows) + len(self.lanes) + len(self.edges)
+             + len(self.junctions) + len(self.roundabouts))
+        limit = max_elements()
+        if n > limit:
+            raise too_big(self.path, "the number of elements", limit, MAX_ELEMENTS_ENV)
 
     def settle_shapes(self) -> None:
         """Parse the shape strings read since the last call into the lanes' and junctions'
@@ -493,6 +528,9 @@ class _ParseState:
         if not self.edges:
             raise InputError(f"{self.path}: the network is empty (no <edge> elements)")
         self.settle_shapes()
+        self.check_size()
+        check_references(self.path, self.edges, self.lanes, self.connection_rows,
+                         self.roundabouts, self.junctions)
         net = Network(
             path=self.path,
             lanes=self.lanes,
@@ -506,3 +544,91 @@ class _ParseState:
         # target parser): what only the state holds is freed now
         self.connection_rows, self.lane_shapes, self.junction_shapes = [], [], []
         return net
+
+
+def check_references(path: Path, edges: dict[str, Edge], lanes: dict[str, Lane],
+                     connections: list[tuple[str, str, int, int, str | None, str]],
+                     roundabouts: list[Roundabout], junctions: dict[str, Junction]) -> None:
+    """Refuse what SUMO itself refuses to load, naming the element.
+
+    Each lane's index is one of its edge's (0 .. n-1); every connection leaves and enters edges
+    of the network, by lanes they have (``fromLane``, ``toLane``), through a ``via`` lane
+    that exists; every roundabout names edges and junctions of the network.
+
+    Examples
+    --------
+    >>> e = Edge("a", "j", "k", "normal", 1, ["a_0"])
+    >>> lanes = {"a_0": Lane("a_0", "a", 0, 3.2, "normal", frozenset(), EMPTY_SHAPE, 9, 9)}
+    >>> check_references(Path("n"), {"a": e}, lanes, [("a", "a", 0, 0, None, "t")], [], {})
+    >>> check_references(Path("n"), {"a": e}, lanes, [("a", "b", 0, 0, None, "s")], [], {})
+    Traceback (most recent call last):
+    ...
+    vehicles.errors.InputError: n: <connection from="a" to="b">: unknown to-edge 'b'
+    """
+    # a lane's index is one of its edge's: SUMO accepts repeats (old internal edges have
+    # several lanes of index 0, bologna_joined of the realnets), not an index beyond
+    lane_list = list(lanes.values())
+    code = {e: k for k, e in enumerate(edges)}
+    counts = np.fromiter(map(len, (e.lanes for e in edges.values())), np.int64, len(edges))
+    of_edge = np.fromiter(map(code.__getitem__, map(attrgetter("edge"), lane_list)),
+                          np.int64, len(lane_list))
+    try:
+        given = np.fromiter(map(attrgetter("index"), lane_list), np.int64, len(lane_list))
+    except OverflowError:
+        given = np.fromiter((min(max(ln.index, -1), 2**62) for ln in lane_list), np.int64,
+                            len(lane_list))
+    wrong = (given < 0) | (given >= counts[of_edge])
+    if wrong.any():
+        lane = lane_list[int(np.argmax(wrong))]
+        raise InputError(f"{path}: lane {lane.id!r}: index {lane.index} out of range (edge "
+                         f"{lane.edge!r} has {len(edges[lane.edge].lanes)} lane(s))")
+    if connections:
+        lane_counts = {e.id: len(e.lanes) for e in edges.values()}
+        n = len(connections)
+
+        def column(i: int) -> map:
+            return map(itemgetter(i), connections)
+
+        n_from = np.fromiter(map(lane_counts.get, column(0), repeat(-1)), np.int64, n)
+        n_to = np.fromiter(map(lane_counts.get, column(1), repeat(-1)), np.int64, n)
+        try:
+            i_from = np.fromiter(column(2), np.int64, n)
+            i_to = np.fromiter(column(3), np.int64, n)
+        except OverflowError:
+            row = next(r for r in connections if max(abs(r[2]), abs(r[3])) >= 2**63)
+            _refuse_connection(path, row, lane_counts, lanes)
+        bad = (i_from < 0) | (i_from >= n_from) | (i_to < 0) | (i_to >= n_to)
+        missing = set(column(4)).difference(lanes)
+        missing.discard(None)
+        if missing:
+            bad |= np.fromiter(map(missing.__contains__, column(4)), bool, n)
+        if bad.any():
+            _refuse_connection(path, connections[int(np.argmax(bad))], lane_counts, lanes)
+    for r in roundabouts:
+        unknown = [e for e in r.edges if e not in edges]
+        if unknown:
+            raise InputError(f"{path}: <roundabout edges=...>: unknown edge(s) "
+                             f"{', '.join(map(repr, unknown[:5]))}")
+        unknown = [j for j in r.nodes if j not in junctions]
+        if unknown:
+            raise InputError(f"{path}: <roundabout nodes=...>: unknown junction(s) "
+                             f"{', '.join(map(repr, unknown[:5]))}")
+
+
+def _refuse_connection(path: Path, row: tuple[str, str, int, int, str | None, str],
+                       lane_counts: dict[str, int], lanes: dict[str, Lane]) -> None:
+    """Raise the error that names what is wrong with one bad connection."""
+    frm, to, from_lane, to_lane, via, _ = row
+    tag = f'<connection from="{frm}" to="{to}">'
+    n_from, n_to = lane_counts.get(frm), lane_counts.get(to)
+    if n_from is None:
+        raise InputError(f"{path}: {tag}: unknown from-edge {frm!r}")
+    if n_to is None:
+        raise InputError(f"{path}: {tag}: unknown to-edge {to!r}")
+    if not 0 <= from_lane < n_from:
+        raise InputError(f"{path}: {tag}: fromLane {from_lane} out of range (edge {frm!r} "
+                         f"has {n_from} lane(s))")
+    if not 0 <= to_lane < n_to:
+        raise InputError(f"{path}: {tag}: toLane {to_lane} out of range (edge {to!r} has "
+                         f"{n_to} lane(s))")
+    raise InputError(f"{path}: {tag}: via lane {via!r} does not exist")

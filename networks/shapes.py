@@ -15,6 +15,12 @@ import numpy as np
 
 from vehicles.errors import InputError
 
+#: The largest coordinate accepted, in metres (after the network's ``netOffset``). No
+#: projection of the earth SUMO uses gives more (web Mercator reaches +/-2.0e7 m), and a
+#: double resolves 1.5e-8 m at 1e8 m, far finer than the millimetres a clearance is given
+#: in; beyond it precision is lost (at 1e15 m the step is 0.125 m and radii come out wrong).
+MAX_COORD_M = 1e8
+
 #: The shape of a lane or junction without one (read-only, shared).
 EMPTY_SHAPE = np.zeros((0, 3))
 EMPTY_SHAPE.flags.writeable = False
@@ -101,7 +107,8 @@ _BATCH = 20000
 def _bulk_floats(joined: str, dim: int, n_points: int) -> np.ndarray | None:
     """The coordinates of ``n_points`` points ``x,y`` (``dim`` 2) or ``x,y,z`` separated by
     single spaces, as parsed one by one would give them; None when ``joined`` is not
-    exactly that (a separator out of place, an empty or bad number, one not finite).
+    exactly that (a separator out of place, an empty or bad number, one not finite or
+    beyond :data:`MAX_COORD_M`).
 
     Examples
     --------
@@ -122,7 +129,8 @@ def _bulk_floats(joined: str, dim: int, n_points: int) -> np.ndarray | None:
             arr = np.fromstring(text, dtype=np.float64, sep=" ")
     except (ValueError, DeprecationWarning):
         return None
-    return arr if arr.size == dim * n_points and np.isfinite(arr).all() else None
+    ok = arr.size == dim * n_points and bool((np.abs(arr) <= MAX_COORD_M).all())  # NaN too
+    return arr if ok else None
 
 
 _NUMBER_CHARS = b"0123456789.+-eE"
@@ -136,4 +144,7 @@ def _parse_one(text: str, names: list[str] | None, what: str, i: int) -> np.ndar
         raise InputError(f"{what}: bad shape: {exc}") from exc
     if not np.isfinite(arr).all():
         raise InputError(f"{what}: non-finite coordinate in shape {text[:60]!r}")
+    if not (np.abs(arr) <= MAX_COORD_M).all():
+        raise InputError(f"{what}: coordinate beyond +/-{MAX_COORD_M:g} m in shape "
+                         f"{text[:60]!r} (precision would be lost)")
     return arr

@@ -24,9 +24,10 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass, replace
 from pathlib import Path
 
+from analysis.tracking import TrackingSettings
 from networks.curves import Curve
-from networks.driver import DrivenRun, DriveOptions, drive
 from networks.reader import Network, read_network
+from networks.sumo.driver import DrivenRun, DriveOptions, drive
 from reports.analytic import minimum_ctr_m, run_analytic
 from reports.executor import SharedFile
 from reports.file_names import file_name
@@ -34,8 +35,9 @@ from reports.records import RunRecord
 from vehicles.errors import InputError
 from vehicles.vehicle import Vehicle
 
-__all__ = ["Batch", "detached", "error_record", "isolate", "lost_batch", "run_batch",
-           "split_batch", "worker_network"]
+__all__ = ["Batch", "DriveTask", "detached", "error_record", "isolate", "lost_batch",
+           "lost_drive", "run_batch", "run_drive", "split_batch", "split_drive",
+           "worker_network"]
 
 log = logging.getLogger(__name__)
 
@@ -61,6 +63,9 @@ class Batch:
         Folder for SUMO's FCD output, or ``None``.
     log_level
         The study's logging level, for the worker's own log.
+    use_sumo
+        ``False`` computes the simulate method's runs without replaying them in SUMO (the
+        same model, envelopes and verdicts; :attr:`networks.sumo.driver.DriveOptions.use_sumo`).
     """
 
     network: str
@@ -72,6 +77,7 @@ class Batch:
     fcd_dir: str | None = None
     log_level: int = logging.WARNING
     part: str = ""
+    use_sumo: bool = True
 
     def __len__(self) -> int:
         return len(self.pairs)
@@ -213,7 +219,7 @@ def _simulated(batch: Batch, net: Network, items: Sequence[tuple[int, Curve]]
         Path(batch.fcd_dir).mkdir(parents=True, exist_ok=True)
         fcd = Path(batch.fcd_dir) / file_name([batch.network, f"{batch.index:03d}{batch.part}"],
                                               ".fcd.xml")
-    options = DriveOptions(offset_m=batch.clearance_m, fcd_output=fcd)
+    options = DriveOptions(offset_m=batch.clearance_m, fcd_output=fcd, use_sumo=batch.use_sumo)
     runs = drive(net, [(batch.vehicles[v], c) for v, c in items], options=options)
     return [_driven_record(batch, r) for r in runs]
 
@@ -282,3 +288,45 @@ def run_batch(batch: Batch, shared: SharedFile | None = None) -> list[RunRecord]
             out += isolate([item], run, failed)
         return out
     return isolate(list(batch.pairs), run, failed)
+
+
+@dataclass(frozen=True)
+class DriveTask:
+    """Runs of ``clearance simulate`` for one worker: the pairs, the model's settings and
+    the drive options (an FCD file among them)."""
+
+    pairs: tuple[tuple[Vehicle, Curve], ...]
+    settings: TrackingSettings
+    options: DriveOptions
+    part: str = ""
+
+    def __len__(self) -> int:
+        return len(self.pairs)
+
+
+def split_drive(task: DriveTask) -> list[DriveTask]:
+    """The two halves of a drive task, each with its own FCD file (``[]`` for one run)."""
+    if len(task.pairs) < 2:
+        return []
+    mid = len(task.pairs) // 2
+    out = []
+    for half, pairs in (("a", task.pairs[:mid]), ("b", task.pairs[mid:])):
+        options = task.options
+        if options.fcd_output is not None:
+            fcd = Path(options.fcd_output)
+            options = replace(options, fcd_output=fcd.with_name(
+                f"{fcd.name.removesuffix('.xml')}-{half}.xml"))
+        out.append(replace(task, pairs=pairs, options=options, part=task.part + half))
+    return out
+
+
+def run_drive(task: DriveTask, shared: SharedFile) -> list[DrivenRun]:
+    """Drive ``task``'s runs in this worker (:func:`networks.sumo.driver.drive`)."""
+    return drive(worker_network(shared), list(task.pairs), task.settings, task.options)
+
+
+def lost_drive(task: DriveTask, reason: str) -> list[DrivenRun]:
+    """Failed runs for a drive task whose worker died even when run alone."""
+    why = ("the worker process died running this alone (SUMO crashed or memory ran out): "
+           + reason)
+    return [DrivenRun(v, c, error=why) for v, c in task.pairs]

@@ -10,7 +10,7 @@ import sys
 from collections.abc import Sequence
 from pathlib import Path
 
-from networks.curves import KINDS, Curve, CurveOptions, extract_curves
+from networks.curves import DEFAULT_KINDS, KINDS, Curve, CurveOptions, extract_curves
 from networks.reader import read_network
 from reports.atomic import write_text_atomic
 from reports.options import add_net_option, add_output_option
@@ -49,7 +49,8 @@ def add_parser(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParse
         "--kind",
         action="append",
         choices=KINDS,
-        help="only curves of this kind (repeat for several; default: all)",
+        help="only curves of this kind (repeat for several; default: all but uturn, "
+        "netconvert's automatic turnarounds)",
     )
     add_output_option(parser, folder=False, metavar="OUT.csv", type=Path,
                       help="write the table as CSV here")
@@ -73,7 +74,7 @@ def run(args: argparse.Namespace) -> int:
         raise InputError(f"--approach must be a positive length in metres, not {args.approach}")
     net = read_network(args.net)
     options = CurveOptions(approach_length_m=args.approach)
-    curves = extract_curves(net, args.kind or KINDS, options, areas=False)
+    curves = extract_curves(net, args.kind or DEFAULT_KINDS, options, areas=False)
     rows = [curve_row(c) for c in curves]
     print_summary(args.net, rows, args.limit)
     if args.output is not None:
@@ -108,14 +109,16 @@ def movement(kind: str, turn_angle_deg: float, min_radius_m: float) -> str:
     --------
     >>> movement("turn", 0.0, float("inf")), movement("turn", -90.0, 5.7)
     ('straight on', 'right 90°')
-    >>> movement("turn", 178.0, 4.0), movement("roundabout", 270.4, 12.0)
-    ('U-turn', 'left 270°')
+    >>> movement("turn", 178.0, 4.0), movement("uturn", 175.0, 3.0)
+    ('U-turn', 'U-turn')
+    >>> movement("roundabout", 270.4, 12.0)
+    'left 270°'
     >>> movement("turn", 3.0, 150.0)  # a slight bend through the junction
     'left 3°'
     """
     if not math.isfinite(min_radius_m) or (abs(turn_angle_deg) < 0.5 and kind == "turn"):
         return "straight on"
-    if kind == "turn" and abs(turn_angle_deg) >= 160.0:
+    if kind == "uturn" or (kind == "turn" and abs(turn_angle_deg) >= 160.0):
         return "U-turn"
     side = "left" if turn_angle_deg > 0 else "right"
     return f"{side} {abs(turn_angle_deg):.0f}°"

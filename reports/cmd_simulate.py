@@ -1,7 +1,7 @@
 """``clearance simulate``: drive vehicles through a network's curves in SUMO and judge them.
 
 Each vehicle x curve run follows the curve's centre line with its kinematic model, is
-replayed in libsumo (:mod:`networks.driver`), and gets an envelope and a verdict. With
+replayed in libsumo (:mod:`networks.sumo.driver`), and gets an envelope and a verdict. With
 ``-o DIR`` it writes, byte-identically for identical inputs, into a fresh folder swapped in
 for ``DIR`` in one atomic step when everything is written (:mod:`reports.output_dir`: a
 failing or interrupted run leaves the previous output as it was, and an existing ``DIR``
@@ -39,18 +39,19 @@ from pathlib import Path
 import numpy as np
 
 from analysis.tracking import TrackingSettings
-from networks.curves import KINDS
-from networks.driver import (
+from networks.curves import DEFAULT_KINDS, Curve
+from networks.reader import Network, read_network
+from networks.selection import check_junctions, load_selected
+from networks.sumo.driver import (
     DrivenRun,
     DriveOptions,
-    drive,
     replay_config,
     select_curves,
 )
-from networks.reader import Network, read_network
-from networks.selection import check_junctions, load_selected
-from networks.sumo_tools import sumo_home
+from networks.sumo.tools import sumo_home
 from reports.atomic import current_umask, write_text_atomic
+from reports.batch import DriveTask, detached, lost_drive, run_drive, split_drive
+from reports.executor import Executor, LocalExecutor, run_isolated
 from reports.export_geojson import write_geojson
 from reports.exports import EnvelopeRecord
 from reports.file_names import file_name
@@ -68,6 +69,7 @@ from reports.study import network_name
 from reports.text_table import format_table
 from vehicles.errors import InputError
 from vehicles.table import load_tables
+from vehicles.vehicle import Vehicle
 
 #: Columns of ``results.csv``.
 RESULT_COLUMNS = (
@@ -117,10 +119,12 @@ def add_parser(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParse
     add_vehicle_option(p, required=True, help="vehicle to drive (repeatable)")
     p.add_argument("--curve", action="append", metavar="ID",
                    help="only this curve (repeatable; ids as `clearance curves` lists them)")
-    add_selection_options(p, kinds_default="all")
+    add_selection_options(p, kinds_default="all but uturn")
     add_output_option(p, folder=True, metavar="DIR", type=Path,
                       help="write results.csv, envelopes.geojson and trajectories/ here")
     add_clearance_option(p)
+    p.add_argument("--workers", type=int, default=None, metavar="N",
+                   help="worker processes that drive the runs (default: one per core)")
     p.add_argument("--fcd", action="store_true",
                    help="also write SUMO's FCD output (DIR/fcd.xml) for sumo-gui")
     p.add_argument("--no-sumo", action="store_true",
@@ -157,7 +161,8 @@ def run(args: argparse.Namespace) -> int:
     folder = output_folder(args.output, LAYOUT) if args.output is not None else nullcontext()
     with folder as staging:
         net = read_network(args.net)
-        selection = replace(selection_of(args), kinds=tuple(dict.fromkeys(args.kind or KINDS)))
+        kinds = tuple(dict.fromkeys(args.kind or DEFAULT_KINDS))
+        selection = replace(selection_of(args), kinds=kinds)
         if selection.junctions:
             check_junctions(selection.junctions, [net])
         curves = select_curves(load_selected(net, selection), args.curve)
@@ -166,7 +171,8 @@ def run(args: argparse.Namespace) -> int:
                              f"({selection.describe()})")
         if staging is not None and args.fcd:
             options = replace(options, fcd_output=staging / "fcd.xml")
-        runs = drive(net, [(v, c) for v in vehicles for c in curves], settings, options)
+        runs = drive_in_workers(net, [(v, c) for v in vehicles for c in curves], settings,
+                                options, args.workers)
         rows = [result_row(r) for r in runs]
         print_summary(rows, args.limit)
         if staging is not None:
@@ -185,6 +191,29 @@ def run(args: argparse.Namespace) -> int:
             print(f"  (or: sh {shlex.quote(str(args.output / 'replay.sh'))})")
         print(f"wrote {len(rows)} run(s) to {args.output}")
     return 0
+
+
+def drive_in_workers(net: Network, pairs: Sequence[tuple[Vehicle, Curve]],
+                     settings: TrackingSettings, options: DriveOptions,
+                     workers: int | None = None,
+                     executor: Executor | None = None) -> list[DrivenRun]:
+    """:func:`networks.sumo.driver.drive` in worker processes, so that a crash of SUMO costs only
+    the runs that cause it (they come back failed, with the reason; see
+    :func:`reports.executor.run_isolated`). With FCD output the runs go to one worker
+    (one SUMO session writes one FCD file); otherwise they are shared between the workers.
+    ``executor`` replaces the local workers (and is closed).
+    """
+    detached_curves = {c.curve_id: detached(c) for _, c in pairs}
+    pairs = [(v, detached_curves[c.curve_id]) for v, c in pairs]
+    with executor or LocalExecutor(workers) as ex:
+        n = 1 if options.fcd_output is not None else ex.workers
+        size = max(1, -(-len(pairs) // n))
+        tasks = [DriveTask(tuple(pairs[k:k + size]), settings, options)
+                 for k in range(0, len(pairs), size)]
+        finished = [runs for _, runs in run_isolated(ex, run_drive, tasks, split_drive,
+                                                     lost_drive, ex.share(net.path))]
+    done = {(d.vehicle.name, d.curve.curve_id): d for runs in finished for d in runs}
+    return [done[(v.name, c.curve_id)] for v, c in pairs]
 
 
 # ------------------------------------------------------------------------------- replay

@@ -19,8 +19,10 @@ from __future__ import annotations
 
 import csv
 import difflib
+import io
 import logging
 import math
+import unicodedata
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass, field
 from importlib import resources
@@ -30,6 +32,7 @@ import numpy as np
 import pandas as pd
 
 from vehicles.errors import InputError, TableError
+from vehicles.files import env_limit, open_regular
 from vehicles.lock import rho_from_ctr, rho_from_curb_to_curb, rho_from_wall_to_wall
 from vehicles.schema import (
     ALL_COLUMNS,
@@ -39,6 +42,7 @@ from vehicles.schema import (
     TRAILER_NAMES,
     UNITS_TO_M,
     Column,
+    default_vclass,
 )
 from vehicles.steering import Breakpoints, RackPinion, Schedule, Steering
 from vehicles.vehicle import Trailer, Vehicle
@@ -48,6 +52,19 @@ log = logging.getLogger(__name__)
 #: Relative disagreement allowed between two given lock columns (published values are
 #: rounded, e.g. a CTR to 0.1 ft).
 LOCK_TOLERANCE = 0.01
+
+#: Default of :func:`max_table_bytes`: 100 MB, about 600,000 rows of the bundled tables'
+#: width (the loader checks some 5,000 rows a second); a larger file is not a fleet.
+DEFAULT_MAX_TABLE_BYTES = 100_000_000
+
+#: The environment variable that raises the cap, in megabytes.
+MAX_TABLE_MB_ENV = "CLEARANCE_MAX_TABLE_MB"
+
+
+def max_table_bytes() -> int:
+    """How large a vehicle table may be: ``CLEARANCE_MAX_TABLE_MB`` megabytes if set, else
+    :data:`DEFAULT_MAX_TABLE_BYTES`."""
+    return env_limit(MAX_TABLE_MB_ENV, DEFAULT_MAX_TABLE_BYTES, 10**6)
 
 
 @dataclass
@@ -153,7 +170,9 @@ def load_tables(
     >>> round(float(t.frame["wheelbase_m"].iloc[0]), 4)
     1.8669
     """
-    files = [Path(p) for p in paths] if paths else bundled_table_paths()
+    files = _distinct([Path(p) for p in paths]) if paths else bundled_table_paths()
+    if names:
+        names = list(dict.fromkeys(names))  # a name given twice is asked for once
     problems: list[str] = []
     warnings: list[str] = []
     records: list[dict[str, object]] = []
@@ -182,16 +201,64 @@ def load_tables(
     return VehicleTable(frame, warnings)
 
 
-def _read_file(path: Path, problems: list[str], warnings: list[str]) -> list[dict[str, object]]:
-    if not path.exists():
-        raise InputError(f"{path}: no such vehicle table")
-    if path.is_dir():
-        raise InputError(f"{path}: is a directory, not a vehicle table (CSV)")
+def _distinct(paths: list[Path]) -> list[Path]:
+    """``paths`` without repeats of one file (the same path twice, or two names of it).
+
+    Examples
+    --------
+    >>> _distinct([Path("a.csv"), Path("./a.csv"), Path("b.csv")])
+    [PosixPath('a.csv'), PosixPath('b.csv')]
+    """
+    seen: set[object] = set()
+    out = []
+    for p in paths:
+        try:
+            st = p.stat()
+            key: object = (st.st_dev, st.st_ino)
+        except (OSError, ValueError):
+            key = p
+        if key not in seen:
+            seen.add(key)
+            out.append(p)
+    return out
+
+
+def read_table_text(path: Path) -> str:
+    """The text of a vehicle table: a regular file of at most :func:`max_table_bytes`,
+    UTF-8 (with or without a byte-order mark).
+
+    Raises
+    ------
+    InputError
+        Missing, not a regular file (a FIFO, a device, a directory, a symlink loop),
+        unreadable, too large, or not UTF-8.
+    """
+    limit = max_table_bytes()
+    with open_regular(path, "vehicle table") as fh:
+        try:
+            data = fh.read(limit + 1)
+        except OSError as exc:
+            raise InputError(f"{path}: cannot read vehicle table: {exc.strerror}") from None
+    if len(data) > limit:
+        raise InputError(f"{path}: refused: the vehicle table is larger than {limit / 1e6:g} "
+                         f"MB; to read it anyway, set the environment variable "
+                         f"{MAX_TABLE_MB_ENV} higher")
     try:
-        text = path.read_text(encoding="utf-8-sig")
-    except (OSError, UnicodeDecodeError) as exc:
-        raise InputError(f"{path}: cannot read vehicle table: {exc}") from None
-    reader = csv.reader(text.splitlines())
+        return data.decode("utf-8-sig")
+    except UnicodeDecodeError as exc:
+        line = data[: exc.start].count(b"\n") + 1
+        raise InputError(f"{path}:{line}: not UTF-8 text (byte {exc.start}: "
+                         f"{data[exc.start:exc.start + 1]!r})") from None
+
+
+def _read_file(path: Path, problems: list[str], warnings: list[str]) -> list[dict[str, object]]:
+    text = read_table_text(path)
+    if "\0" in text:
+        raise InputError(f"{path}:{text[: text.index(chr(0))].count(chr(10)) + 1}: a NUL "
+                         "character: not a CSV text file")
+    # newline="": quoted line breaks stay inside their cell, and only \r and \n end a line
+    # (str.splitlines also breaks at U+2028 and the like, inside cells too)
+    reader = csv.reader(io.StringIO(text, newline=""))
     try:
         header = [h.strip() for h in next(reader)]
     except StopIteration:
@@ -216,19 +283,21 @@ def _read_file(path: Path, problems: list[str], warnings: list[str]) -> list[dic
     if bad_header:
         return []
     records = []
+    line_no = reader.line_num + 1  # the line the next record starts on
     try:
-        for line_no, values in enumerate(reader, start=2):
+        for values in reader:
+            start, line_no = line_no, reader.line_num + 1
             if not any(v.strip() for v in values):
                 continue
             if len(values) != len(header):
-                problems.append(f"{path}:{line_no}: has {len(values)} fields, the header has "
+                problems.append(f"{path}:{start}: has {len(values)} fields, the header has "
                                 f"{len(header)}")
                 continue
             raw = {h: v.strip() for h, v in zip(header, values, strict=True)}
-            rec = _row(raw, f"{path}:{line_no}", problems, warnings)
+            rec = _row(raw, f"{path}:{start}", problems, warnings)
             if rec is not None:
                 rec["table"] = str(path)
-                rec["line"] = line_no
+                rec["line"] = start
                 records.append(rec)
     except csv.Error as exc:
         problems.append(f"{path}: not a valid CSV table: {exc}")
@@ -246,13 +315,39 @@ def _number(col: Column, text: str, where: str, problems: list[str]) -> float | 
     if not math.isfinite(value):
         problems.append(f"{where}: column {col.name}: {text!r}: not a finite number")
         return None
-    if col.positive is True and value <= 0:
-        problems.append(f"{where}: column {col.name}: {text!r}: must be greater than zero")
-        return None
-    if col.positive == "nonneg" and value < 0:
-        problems.append(f"{where}: column {col.name}: {text!r}: must not be negative")
-        return None
-    return value
+    return value  # its range is checked by the caller (in SI units)
+
+
+def _check_range(col: Column, value_si: float, text: str, where: str, problems: list[str],
+                 scale: float, unit: str) -> bool:
+    """False (and the problem noted) when ``value_si`` is outside the column's range."""
+    if col.in_range(value_si):
+        return True
+    shown = col.range_text(scale, unit if col.kind == "length" else "")
+    if col.kind == "length" and scale != 1.0:
+        shown += f" = {col.range_text()}"
+    problems.append(f"{where}: column {col.name}: {text!r}: outside the range {shown} "
+                    f"({col.why})")
+    return False
+
+
+def _text_problem(text: str) -> str | None:
+    """What makes ``text`` unfit for a text cell (a line break, a control character).
+
+    Examples
+    --------
+    >>> _text_problem("Car One") is None
+    True
+    >>> _text_problem("Car\u2028Two")
+    'holds a line or paragraph separator (U+2028)'
+    """
+    for ch in text:
+        cat = unicodedata.category(ch)
+        if cat in ("Zl", "Zp") or ch in "\n\r\x0b\x0c\x1c\x1d\x1e\x85":
+            return f"holds a line or paragraph separator (U+{ord(ch):04X})"
+        if cat == "Cc":
+            return f"holds a control character (U+{ord(ch):04X})"
+    return None
 
 
 def _schedule(col: Column, text: str, where: str, problems: list[str]) -> Schedule | None:
@@ -263,8 +358,16 @@ def _schedule(col: Column, text: str, where: str, problems: list[str]) -> Schedu
     except InputError as exc:
         problems.append(f"{where}: column {col.name}: {text!r}: {exc}")
         return None
-    if (col.positive is True and min(table.y) <= 0) or min(table.y) < 0:
-        problems.append(f"{where}: column {col.name}: {text!r}: table values out of range")
+    limit = ALL_COLUMNS["steering_range_deg"].high  # the steering wheel turns no further
+    odd = [x for x in np.degrees(table.x) if not abs(x) <= limit]  # NaN too
+    if odd:
+        problems.append(f"{where}: column {col.name}: {text!r}: breakpoint angle {odd[0]:g} "
+                        f"outside +/-{limit:g} degrees of steering-wheel angle")
+        return None
+    bad = [y for y in table.y if not col.in_range(float(y))]
+    if bad:
+        problems.append(f"{where}: column {col.name}: {text!r}: table value {bad[0]:g} "
+                        f"outside the range {col.range_text()} ({col.why})")
         return None
     return table
 
@@ -275,7 +378,7 @@ def _row(raw: dict[str, str], where: str, problems: list[str],
     name = raw.get("name", "")
     if not name:
         problems.append(f"{where}: column name: empty: every row needs a name")
-    where = f"{where} ({name})" if name else where
+    where = f"{where} ({name})" if name and _text_problem(name) is None else where
     units = raw.get("units", "")
     if units not in UNITS_TO_M:
         problems.append(f"{where}: column units: {units!r}: must be 'm' or 'ft'")
@@ -292,7 +395,11 @@ def _row(raw: dict[str, str], where: str, problems: list[str],
                 problems.append(f"{where}: column {cname}: empty: a required value")
             continue
         if col.kind == "text":
-            v[cname] = text
+            problem = _text_problem(text)
+            if problem:
+                problems.append(f"{where}: column {cname}: {text[:40]!r}: {problem}")
+            else:
+                v[cname] = text
         elif col.kind == "choice":
             if text.lower() not in col.choices:
                 problems.append(f"{where}: column {cname}: {text!r}: must be one of "
@@ -301,22 +408,22 @@ def _row(raw: dict[str, str], where: str, problems: list[str],
                 v[cname] = text.lower()
         elif col.kind == "table":
             sched = _schedule(col, text, where, problems)
+            if isinstance(sched, float) and not _check_range(col, sched, text, where,
+                                                             problems, 1.0, ""):
+                continue
             if sched is not None:
                 v[cname] = sched
         else:
             num = _number(col, text, where, problems)
             if num is None:
                 continue
-            if col.kind == "length":
-                v[cname] = num * scale
-            elif col.kind == "angle":
-                if num >= 90.0:
-                    problems.append(f"{where}: column {cname}: {text!r}: an angle of 90 "
-                                    "degrees or more is impossible")
-                    continue
+            si = num * scale if col.kind == "length" else num
+            if not _check_range(col, si, text, where, problems, scale, units):
+                continue
+            if col.kind == "angle":
                 v[cname] = math.radians(num)
             else:
-                v[cname] = num
+                v[cname] = si
     if len(problems) > n_before:
         return None
     return _derive(v, where, problems, warnings, units, scale)
@@ -342,6 +449,11 @@ def _derive(v: dict[str, object], where: str, problems: list[str], warnings: lis
         if len(problems) > n_before:
             return None
         e, lt = f("hitch_offset"), f("trailer_wheelbase")
+        if e <= -l:
+            problems.append(f"{where}: column hitch_offset: {e / scale:g} {unit}: puts the "
+                            f"hitch at or ahead of the front axle (wheelbase {l / scale:g} "
+                            f"{unit}); a towed unit is hitched behind it")
+            return None
         a_tf = f("trailer_front_overhang", 0.0)
         rest = L - a_f - l - e - lt
         a_tr = f("trailer_rear_overhang", rest)
@@ -456,6 +568,12 @@ def _derive(v: dict[str, object], where: str, problems: list[str], warnings: lis
             problems.append(f"{where}: column {given[0]}: the mechanism cannot reach this lock")
             return None
     outer = float(steering.outer_for_inner(inner))
+    if not 0.0 < outer < math.pi / 2:
+        problems.append(f"{where}: column {'ackermann_pct' if 'ackermann_pct' in v else kind}: "
+                        f"the outer wheel comes out at {math.degrees(outer):.1f} degrees at "
+                        f"full lock (inner {math.degrees(inner):.1f}): it must turn the same "
+                        "way, by less than 90 degrees")
+        return None
     phi = math.atan(l / rho)
     sw_lock = float(steering.steering_for_inner(inner))
     if user_range and not math.isfinite(sw_lock):
@@ -487,6 +605,7 @@ def _derive(v: dict[str, object], where: str, problems: list[str], warnings: lis
         "max_inner_steer_rad": inner, "max_outer_steer_rad": outer, "max_steer_rad": phi,
         "min_radius_m": rho, "max_steer_rate_rad_s": rate,
         "lock_given": ",".join(given),
+        "vclass": v.get("vclass") or default_vclass(str(v["category"])),
     }
     for key in RACK_NAMES:
         out[f"{key}_m"] = f(key)
@@ -559,4 +678,5 @@ def vehicle_from_row(row: pd.Series) -> Vehicle:
         steered_axle=str(row["steered_axle"]),
         height_m=float(height) if np.isfinite(height) else None,
         trailer=trailer, category=str(row["category"]), source=str(row["source"]),
+        vclass=str(row.get("vclass") or default_vclass(str(row["category"]))),
     )

@@ -11,7 +11,7 @@ import shapely
 from shapely import affinity
 
 from analysis.envelope import body_corners, interval_hulls, key_samples, sweep, swept_path
-from analysis.kinematics import arc_step
+from analysis.kinematics import ramp_step
 from analysis.tracking import simulate, simulate_batch
 from tests.analysis.helpers import bus, car, semi, steady_rho, turn
 
@@ -79,11 +79,11 @@ def test_envelope_has_no_gaps_between_steps(vehicle) -> None:
     rng = np.random.default_rng(7)
     k = rng.integers(0, len(tr) - 1, size=200)
     f = rng.uniform(0.0, 1.0, size=200)
-    # poses between samples: the held steering over a fraction of each step
+    # poses between samples: the wheel part of the way through its turn over the step
     dt = np.diff(tr.t_s)[k] * f
-    v_rear = tr.speed_m_s[k] * np.cos(tr.phi_rad[k])
-    x, y, th = arc_step(tr.x_m[k], tr.y_m[k], tr.theta_rad[k], v_rear, tr.phi_rad[k],
-                        vehicle.wheelbase_m, dt)
+    phi_f = tr.phi_rad[k] + f * (tr.phi_rad[k + 1] - tr.phi_rad[k])
+    x, y, th = ramp_step(tr.x_m[k], tr.y_m[k], tr.theta_rad[k], tr.speed_m_s[k] * dt,
+                         tr.phi_rad[k], phi_f, vehicle.wheelbase_m)
     bodies = shapely.polygons(body_corners(x, y, th, vehicle.wheelbase_m
                                            + vehicle.front_overhang_m,
                                            vehicle.rear_overhang_m, vehicle.width_m))

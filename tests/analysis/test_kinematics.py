@@ -13,6 +13,8 @@ from analysis.kinematics import (
     as_speed_profile,
     integrate,
     limit_steering,
+    ramp_arc,
+    ramp_step,
 )
 from analysis.polyline import fit_circle
 from vehicles.errors import InputError
@@ -128,3 +130,48 @@ def test_bad_speed_and_step_raise_input_error() -> None:
         integrate(0, 0, 0, 1, 0, 2, 0.0, 3)
     with pytest.raises(InputError, match="method"):
         integrate(0, 0, 0, 1, 0, 2, 0.1, 3, method="rk4")  # type: ignore[arg-type]
+
+
+def _ramp_steer_exact(v: float, wb: float, rate: float, t_end: float, n: int = 20001
+                      ) -> tuple[float, float, float]:
+    """Rear axle after a ramp steer ``phi = rate t`` from rest at the origin (Simpson).
+
+    The heading has a closed form, ``theta = v (1 - cos(rate t)) / (l rate)`` (the rear axle
+    turns at ``v sin(phi) / l`` when the front axle moves at ``v``); the position is the
+    Fresnel-type integral of ``v cos(phi) (cos theta, sin theta)``, by Simpson's rule on
+    ``n`` points.
+    """
+    t = np.linspace(0.0, t_end, n)
+    th = v * (1.0 - np.cos(rate * t)) / (wb * rate)
+    w = np.ones(n)
+    w[1:-1:2], w[2:-1:2] = 4.0, 2.0
+    w *= (t[1] - t[0]) / 3.0
+    vr = v * np.cos(rate * t)
+    return float(w @ (vr * np.cos(th))), float(w @ (vr * np.sin(th))), float(th[-1])
+
+
+def test_ramp_steer_is_second_order_in_the_step() -> None:
+    v, wb, rate, t_end = 2.0, 3.0, 0.03, 15.0  # the wheel turns to 0.45 rad in 15 s
+    ex, ey, eth = _ramp_steer_exact(v, wb, rate, t_end)
+    errors, held = [], []
+    for dt in (0.1, 0.05):
+        x = y = th = xh = yh = thh = 0.0
+        for k in range(round(t_end / dt)):
+            p0, p1 = rate * k * dt, rate * (k + 1) * dt
+            x, y, th = ramp_step(x, y, th, v * dt, p0, p1, wb)
+            # the step's new steering held over the whole step (the loop before the ramp)
+            xh, yh, thh = arc_step(xh, yh, thh, v * math.cos(p1), p1, wb, dt)
+        errors.append(math.hypot(x - ex, y - ey))
+        held.append(math.hypot(xh - ex, yh - ey))
+        assert th == pytest.approx(eth, abs=1e-6)  # Simpson's turn: fourth order
+    assert errors[0] < 0.002 and held[0] > 0.1  # the held steering lags 0.17 m
+    assert errors[0] / errors[1] == pytest.approx(4.0, rel=0.05)  # second order
+    assert held[0] / held[1] == pytest.approx(2.0, rel=0.05)  # first order
+
+
+def test_ramp_arc_of_a_rear_steered_unit_turns_by_tan() -> None:
+    # the reference (front) axle travels the whole distance; held steering: the exact arc
+    ds, dth = ramp_arc(0.4, 0.4, 2.5, 1.2, front_steered=False)
+    assert float(ds) == 1.2 and float(dth) == pytest.approx(1.2 * math.tan(0.4) / 2.5)
+    ds, dth = ramp_arc(-0.4, 0.4, 2.5, 1.2, front_steered=True)  # through straight
+    assert float(dth) == pytest.approx(0.0, abs=1e-15) and float(ds) < 1.2

@@ -3,6 +3,7 @@
 import math
 
 import numpy as np
+import pytest
 
 from analysis.polyline import catmull_rom, prepare_path, smooth_polyline
 from analysis.tracking import simulate_batch
@@ -51,5 +52,28 @@ def test_a_run_that_starts_inside_a_curve_starts_steering():
     circle = np.c_[10 * np.sin(a), 10 * (1 - np.cos(a))]
     run = simulate_batch([CAR], [circle])[0]
     assert run.followed and run.max_error_m < 0.02
-    expected_phi = math.atan(CAR.wheelbase_m / 10.0)
-    assert abs(run.trajectory.phi_rad[0] - expected_phi) < 0.01
+    # the front axle on the 10 m circle: sin(phi) = l / R (tan(phi) = l / R is 0.01 less)
+    expected_phi = math.asin(CAR.wheelbase_m / 10.0)
+    assert abs(run.trajectory.phi_rad[0] - expected_phi) < 0.002
+
+
+def _arc_from(radius: float, step_deg: float, first: float = 1.0) -> np.ndarray:
+    """A 180-degree arc from (0, 0) heading +x, vertices every ``step_deg``, rounded to 1 cm
+    as SUMO writes them; the first chord is ``first`` of a chord (a curve cut inside it)."""
+    a = np.radians(np.concatenate([[0.0], np.arange(first * step_deg, 180.0 + 1e-9, step_deg)]))
+    return np.round(np.c_[radius * np.sin(a), radius * (1 - np.cos(a))], 2)
+
+
+def test_a_smoothed_line_that_starts_inside_an_arc_starts_on_it():
+    radius = 9.0
+    for step_deg, first in [(5.0, 1.0), (10.0, 1.0), (22.5, 1.0), (4.0, 0.3)]:
+        path = prepare_path(_arc_from(radius, step_deg, first), 0.1, smooth=True)
+        start = path.station_m <= 2.0
+        # the curvature over the first two metres is the arc's up to SUMO's rounding (the
+        # first chord led straight: 15-85 % low; a short first chord: 7 % high), so is the
+        # heading at the start (off by half the first chord's turn: up to 0.2 rad) and the
+        # line lies on the arc (it was up to 0.10 m inside it)
+        assert np.median(path.curvature_1_m[start]) * radius == pytest.approx(1.0, abs=0.04)
+        assert abs(path.heading_rad[0]) < 0.008, (step_deg, first)
+        xy = path.xy[start]
+        assert np.abs(np.hypot(xy[:, 0], xy[:, 1] - radius) - radius).max() < 0.015

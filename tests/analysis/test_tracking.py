@@ -8,11 +8,14 @@ import math
 import numpy as np
 import pytest
 
-from analysis.kinematics import SpeedProfile
+from analysis.envelope import swept_path
+from analysis.kinematics import SpeedProfile, ramp_step
+from analysis.polyline import prepare_path
 from analysis.tracking import TrackingSettings, simulate, simulate_batch, simulate_grid
 from analysis.trailer import steady_articulation_rad, steady_trailer_radius_m
 from tests.analysis.helpers import bus, car, semi, steady_rho, turn
 from vehicles.errors import InputError
+from vehicles.vehicle import Vehicle
 
 
 def test_straight_path_no_steering_and_exact_duration() -> None:
@@ -40,7 +43,9 @@ def test_long_arc_reaches_steady_steering_angle() -> None:
     assert np.allclose(tr.phi_rad[late], math.atan(6.0 / rho), rtol=5e-3)
     r_rear = np.hypot(tr.x_m[late], tr.y_m[late] - radius)
     assert np.allclose(r_rear, rho, rtol=1e-3)
-    assert run.max_error_m < 0.02
+    # the largest error is where the arc ends: the wheel, turned back at its finite rate
+    # early enough not to overshoot the exit, cuts it by 2.6 cm
+    assert run.max_error_m < 0.03
 
 
 def test_steering_rate_limit_bounds_phi_rate_and_costs_accuracy() -> None:
@@ -52,7 +57,7 @@ def test_steering_rate_limit_bounds_phi_rate_and_costs_accuracy() -> None:
     slow_rate = np.abs(np.diff(slow_wheel.trajectory.phi_rad[:-1])) / dt
     quick_rate = np.abs(np.diff(quick_wheel.trajectory.phi_rad[:-1])) / dt
     assert np.max(slow_rate) <= 0.15 + 1e-9
-    assert np.count_nonzero(slow_rate > 0.15 - 1e-9) > 10  # it saturates for a while
+    assert np.count_nonzero(slow_rate > 0.15 - 1e-9) > 5  # it saturates for a while
     assert np.max(quick_rate) > 0.3  # the unlimited wheel turns faster
     assert slow_wheel.steps_rate_limited > 10
     assert slow_wheel.max_error_m > 3 * quick_wheel.max_error_m
@@ -192,3 +197,60 @@ def test_tolerance_decides_cannot_turn_on_the_same_drive() -> None:
     assert loose.followed and strict.cannot_turn
     assert loose.max_error_m == pytest.approx(strict.max_error_m)  # same drive, other verdict
     assert f"tolerance {0.5 * err:.2f} m" in strict.reason
+
+
+@pytest.mark.parametrize("smooth", [False, True])
+def test_a_run_that_starts_on_a_circle_starts_in_its_steady_state(smooth: bool) -> None:
+    # the front axle starts on a 9 m circle (vertices every 5 degrees, as SUMO draws a helix)
+    radius, v = 9.0, car()
+    a = np.radians(np.arange(0.0, 270.0 + 1e-9, 5.0 if smooth else 1.0))
+    path = prepare_path(np.c_[radius * np.sin(a), radius * (1 - np.cos(a))], smooth=smooth)
+    run = simulate(v, path)
+    tr = run.trajectory
+    rho = steady_rho(radius, v.wheelbase_m)
+    # the rear axle starts on its steady circle: sin(phi) = l / R, not tan(phi) = l / R
+    assert math.hypot(tr.x_m[0], tr.y_m[0] - radius) == pytest.approx(rho, abs=0.01)
+    assert tr.phi_rad[0] == pytest.approx(math.asin(v.wheelbase_m / radius), abs=2e-3)
+    # and the offtracking is the steady state's, CTR - rho (docs/design.md §4), from the start on
+    assert swept_path(run).max_offtracking_m == pytest.approx(radius - rho, rel=0.01)
+    assert run.followed and run.max_error_m < 0.01
+
+
+def _passenger_car() -> Vehicle:
+    # AASHTO P: l = 11 ft, lock for CTR 21 ft, road wheels lock to lock in 4 s
+    return Vehicle("P", 3.3528, 2.1336, 2.1336, 0.9144, 1.524, 0.5513, 0.6527, 0.2757)
+
+
+@pytest.mark.parametrize("left", [True, False])
+@pytest.mark.parametrize("dt", [0.1, 0.05])
+def test_after_a_corner_tighter_than_the_lock_it_rejoins_without_overshooting(left, dt) -> None:
+    # a 3 m corner (P's centre-line turning radius is 6.4 m) between two straights
+    radius, lead = 3.0, 15.0
+    run = simulate(_passenger_car(), turn(radius, 90.0, lead_m=lead, tail_m=40.0, left=left),
+                   TrackingSettings(dt_s=dt, tolerance_m=50.0))
+    tr = run.trajectory
+    assert run.reached_end
+    after = tr.s_m >= lead + radius * math.pi / 2
+    e, s = tr.error_m[after], tr.s_m[after]
+    peak = int(np.argmax(np.abs(e)))
+    assert abs(e[peak]) > 0.5  # it cannot follow the corner: it runs wide, to the outside
+    assert np.sign(e[peak]) == (-1.0 if left else 1.0)
+    # then it comes back without crossing the centre line by more than a few centimetres
+    # (the plain Stanley law swung 2.8 m across, lock to lock, and grew)
+    assert np.max(-np.sign(e[peak]) * e[peak:]) < 0.05
+    # and it is back on it within 15 m of the corner
+    assert np.all(np.abs(e[s > s[0] + 15.0]) < 0.05)
+
+
+def test_the_loop_turns_the_wheel_over_each_step_as_ramp_step_integrates_it() -> None:
+    # a slow wheel (rate-limited for most of the corner): the recorded states are the
+    # recorded steering's ramps integrated step by step (second order in the step, see
+    # tests/analysis/test_kinematics.py), not the new steering held over each step
+    v = bus(rate=0.15)
+    tr = simulate(v, turn(12.0, 90.0), TrackingSettings(speed=3.0)).trajectory
+    d = tr.speed_m_s[:-1] * np.diff(tr.t_s)
+    x, y, th = ramp_step(tr.x_m[:-1], tr.y_m[:-1], tr.theta_rad[:-1], d, tr.phi_rad[:-1],
+                         tr.phi_rad[1:], v.wheelbase_m)
+    assert np.allclose(x, tr.x_m[1:], atol=1e-9) and np.allclose(y, tr.y_m[1:], atol=1e-9)
+    assert np.allclose(th, tr.theta_rad[1:], atol=1e-12)
+    assert np.count_nonzero(np.abs(np.diff(tr.phi_rad)) > 0.15 * 0.1 - 1e-9) > 10

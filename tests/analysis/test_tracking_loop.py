@@ -5,20 +5,25 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from analysis.kinematics import arc_step, limit_steering
-from analysis.tracking_loop import arc_step_one, articulation_one, limit_one
+from analysis.kinematics import limit_steering, ramp_step
+from analysis.tracking_loop import articulation_one, limit_one, ramp_step_one
 from analysis.trailer import advance_articulation
 
 RNG = np.random.default_rng(11)
 
 
-def test_arc_step_one_is_arc_step() -> None:
+@pytest.mark.parametrize("front", [True, False])
+def test_ramp_step_one_is_ramp_step(front: bool) -> None:
     for _ in range(200):
         x, y, th = RNG.uniform(-50, 50, 3)
-        phi = RNG.choice([0.0, RNG.uniform(-0.7, 0.7)])
-        wb, ds = RNG.uniform(1.5, 8.0), RNG.uniform(0.0, 3.0)
-        expected = [float(v) for v in arc_step(x, y, th, 1.0, phi, wb, ds)]
-        assert list(arc_step_one(x, y, th, phi, wb, ds)) == pytest.approx(expected, abs=1e-12)
+        phi0 = RNG.choice([0.0, RNG.uniform(-0.7, 0.7)])
+        phi1 = RNG.choice([phi0, RNG.uniform(-0.7, 0.7)])
+        wb, d = RNG.uniform(1.5, 8.0), RNG.uniform(0.0, 3.0)
+        expected = [float(v) for v in ramp_step(x, y, th, d, phi0, phi1, wb, front)]
+        got = ramp_step_one(x, y, th, phi0, phi1, wb, d, front)
+        assert list(got[:3]) == pytest.approx(expected, abs=1e-12)
+        # the arc it reports is the one it took: the heading changed by dtheta
+        assert got[2] - th == pytest.approx(got[4], abs=1e-12)
 
 
 def test_limit_one_is_limit_steering() -> None:

@@ -22,6 +22,7 @@ import networks.shapes
 from networks.reader import DEFAULT_LANE_WIDTH_M, read_network, resolve_allowed
 from networks.samples.sources import SAMPLES_DIR
 from networks.shapes import parse_shape, parse_shapes
+from tests.networks import damaged
 from vehicles.errors import InputError
 
 NODES = """
@@ -262,3 +263,79 @@ def test_connections_by_lane_whichever_index_is_made_first(first):
     for k in net.lanes:
         assert net.outgoing(k) == [c for c in net.connections if c.from_lane == k], k
         assert net.incoming(k) == [c for c in net.connections if c.to_lane == k], k
+
+
+@pytest.mark.parametrize("case", sorted(damaged.CASES))
+def test_damaged_networks_are_refused_naming_the_element(tmp_path, case):
+    # what SUMO itself refuses, and numbers outside their physical range
+    path, expected = damaged.damage(case, tmp_path)
+    with pytest.raises(InputError) as info:
+        read_network(path)
+    assert str(info.value).startswith(expected)
+
+
+def test_coordinates_within_the_bound_are_read_exactly(tmp_path):
+    # moved by 1e6 m (a UTM-sized offset): every point exactly 1e6 further, the curves alike
+    text = (SAMPLES_DIR / "intersection" / "intersection.net.xml").read_text()
+    p = tmp_path / "moved.net.xml"
+    p.write_text(damaged._offset_all(text, 1e6))
+    moved, plain = read_network(p), read_network(SAMPLES_DIR / "intersection" /
+                                                 "intersection.net.xml")
+    for lane_id, lane in plain.lanes.items():
+        np.testing.assert_allclose(moved.lanes[lane_id].shape[:, :2] - 1e6, lane.shape[:, :2],
+                                   atol=1e-9)
+
+
+# -- generated malformed networks (hypothesis): nothing but InputError escapes, nothing hangs
+
+import re  # noqa: E402
+
+from hypothesis import given, settings  # noqa: E402
+from hypothesis import strategies as st  # noqa: E402
+
+_SAMPLE = (SAMPLES_DIR / "intersection" / "intersection.net.xml").read_bytes()
+_VALUES = [m.span(1) for m in re.finditer(rb'="([^"]*)"', _SAMPLE)]
+_LINES = [m.span() for m in re.finditer(rb"[^\n]*\n", _SAMPLE)]
+_JUNK = st.one_of(
+    st.sampled_from([b"", b"nan", b"inf", b"-1", b"1e400", b"1e300", b"-0", b"0", b"x",
+                     b"99999999999999999999", b":T_0_0", b"TE_in", b"&amp;", b"&x;", b"<",
+                     b"]]>", b"0,0", b"0,0 nan,1", b"1,2,3,4", b"\xff\xfe", b"\x00",
+                     b"<!ENTITY a 'b'>", b"<!DOCTYPE net SYSTEM '/dev/zero'>"]),
+    st.binary(max_size=8),
+)
+
+
+@st.composite
+def _damaged_networks(draw) -> bytes:
+    data = _SAMPLE
+    for _ in range(draw(st.integers(1, 3))):
+        how = draw(st.sampled_from(["value", "value", "value", "drop-line", "copy-line",
+                                    "insert", "truncate"]))
+        if how == "value":
+            a, b = _VALUES[draw(st.integers(0, len(_VALUES) - 1))]
+            a, b = min(a, len(data)), min(b, len(data))
+            data = data[:a] + draw(_JUNK) + data[b:]
+        elif how in ("drop-line", "copy-line"):
+            a, b = _LINES[draw(st.integers(0, len(_LINES) - 1))]
+            a, b = min(a, len(data)), min(b, len(data))
+            data = data[:a] + (data[a:b] * 2 if how == "copy-line" else b"") + data[b:]
+        elif how == "insert":
+            at = draw(st.integers(0, len(data)))
+            data = data[:at] + draw(_JUNK) + data[at:]
+        else:
+            data = data[: draw(st.integers(0, len(data)))]
+    return data
+
+
+@settings(max_examples=200, deadline=3000)
+@given(data=_damaged_networks())
+def test_generated_damaged_networks_raise_nothing_but_input_errors(tmp_path_factory, data):
+    p = tmp_path_factory.mktemp("n") / "n.net.xml"
+    p.write_bytes(data)
+    try:
+        net = read_network(p)
+    except InputError as exc:
+        assert str(exc).startswith(f"{p}") or "environment variable" in str(exc)
+        return
+    for lane in net.lanes.values():  # what is read is in range
+        assert 0 < lane.width_m <= 50 and np.isfinite(lane.shape).all()

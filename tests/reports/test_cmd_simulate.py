@@ -181,3 +181,27 @@ def test_trajectory_file_names_are_safe_and_unique():
     assert names[1] == "a_b__turn_J.csv"  # "a_b", "turn_J" as they are; "a b" was changed
     assert names[3].startswith("car__") and "/" not in names[3]
 
+
+
+def test_a_run_that_crashes_sumo_fails_alone_and_the_others_are_driven():
+    from analysis.tracking import TrackingSettings
+    from networks.curves import extract_curves
+    from networks.reader import read_network
+    from networks.sumo.driver import DriveOptions
+    from reports.cmd_simulate import drive_in_workers
+    from tests.reports.test_executor import CrashingExecutor
+    from vehicles.table import bundled_table_paths, load_tables
+
+    net = read_network(NET)
+    curves = extract_curves(net)[:6]
+    car = load_tables(bundled_table_paths(), ["P"]).vehicles()[0]
+    pairs = [(car, c) for c in curves]
+    victim = curves[2].curve_id
+    runs = drive_in_workers(net, pairs, TrackingSettings(), DriveOptions(),
+                            executor=CrashingExecutor(2, victim))
+    assert [r.curve.curve_id for r in runs] == [c.curve_id for c in curves]
+    for r in runs:
+        if r.curve.curve_id == victim:
+            assert r.verdict == "error" and "worker process died" in r.reason
+        else:
+            assert r.error == "" and r.verdict in ("clear", "encroaches", "fails", "cannot-turn")

@@ -123,3 +123,10 @@ def test_a_curve_that_crashes_sumo_is_an_error_and_the_study_completes(one_worke
             assert got.verdict == "error" and "worker process died" in got.reason
         else:
             assert (got.verdict, got.margin_m) == (want.verdict, want.margin_m)
+
+
+def test_a_network_named_twice_is_studied_once(caplog):
+    study = run_study([NET, str(NET)], load_tables(bundled_table_paths(), ["P"]),
+                      method="analytic", workers=1)
+    assert [n.name for n in study.networks] == [NET.name.split(".")[0]]
+    assert "named twice" in caplog.text

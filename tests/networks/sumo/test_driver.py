@@ -8,11 +8,11 @@ import xml.etree.ElementTree as ET
 import numpy as np
 import pytest
 
-from networks import driver
 from networks.curves import extract_curves
-from networks.driver import DriveOptions, drive
 from networks.reader import read_network
 from networks.samples import build as samples
+from networks.sumo import driver
+from networks.sumo.driver import DriveOptions, drive
 from vehicles.errors import InputError
 from vehicles.table import bundled_table, load_tables
 
@@ -56,14 +56,14 @@ VAN = "2008 Chrysler Town & Country"
 DESIGNED = [
     ("intersection", "P", "turn:X:XN_in_0", "XW_out_0", "clear", 0.02),
     ("intersection", "CITY-BUS", "turn:X:XN_in_0", "XW_out_0", "fails", -2.01),
-    ("intersection", "P", "turn:T:TW_in_0", "TS_out_0", "fails", -0.27),
-    ("intersection", "SU-30", "turn:T:TW_in_0", "TS_out_0", "cannot-turn", -1.66),
+    ("intersection", "P", "turn:T:TW_in_0", "TS_out_0", "fails", -0.22),
+    ("intersection", "SU-30", "turn:T:TW_in_0", "TS_out_0", "cannot-turn", -1.63),
     ("roundabout", "P", "roundabout:R0:R0_in_", "R2_out_", "clear", 0.26),
     ("roundabout", "SU-30", "roundabout:R0:R0_in_", "R2_out_", "encroaches", -0.77),
-    ("roundabout", "WB-62", "roundabout:R0:R0_in_", "R1_out_", "fails", -3.49),
-    ("roundabout", "WB-62", "roundabout:C0:C0_in_", "C3_out_", "cannot-turn", -5.77),
-    ("parking_ramp", VAN, "ramp:", "helix", "clear", 0.07),
-    ("parking_ramp", "P", "ramp:", "helix", "fails", -0.15),
+    ("roundabout", "WB-62", "roundabout:R0:R0_in_", "R1_out_", "fails", -3.47),
+    ("roundabout", "WB-62", "roundabout:C0:C0_in_", "C3_out_", "cannot-turn", -5.73),
+    ("parking_ramp", VAN, "ramp:", "helix", "clear", 0.09),
+    ("parking_ramp", "P", "ramp:", "helix", "fails", -0.13),
 ]
 
 
@@ -299,7 +299,7 @@ def test_lane_boundaries_on_a_helix_use_elevation():
 def test_docstring_examples():
     import doctest
 
-    from networks import placement
+    from networks.sumo import placement
 
     failures, tried = doctest.testmod(placement, optionflags=doctest.NORMALIZE_WHITESPACE)
     assert tried >= 7 and failures == 0
@@ -321,3 +321,19 @@ def test_a_failing_verdict_keeps_the_other_runs(nets, table, monkeypatch):
     assert runs[1].verdict == "error" and runs[1].result is None
     assert "envelope or verdict failed: clearance areas" in runs[1].reason
     assert [runs[0].verdict, runs[2].verdict] == ["clear", "clear"]
+
+
+def test_a_network_sumo_refuses_is_an_input_error_naming_sumos_message(nets, table, tmp_path):
+    # read from the sample, handed to SUMO damaged (a via to a missing lane, which the
+    # reader refuses itself): SUMO's refusal at start is bad input, with SUMO's words
+    import dataclasses
+
+    from tests.networks import damaged
+
+    net, pairs = _pairs(nets, table, 1)
+    bad, _ = damaged.damage("via-to-a-missing-lane", tmp_path)
+    with pytest.raises(InputError) as info:
+        drive(dataclasses.replace(net, path=bad), pairs, options=DriveOptions())
+    msg = str(info.value)
+    assert msg.startswith(f"{bad}: SUMO cannot load the network: ")
+    assert "':nope_0'" in msg and "via-lane" in msg

@@ -66,7 +66,7 @@ fault) writing FCD output for a vehicle whose first placement is off every lane.
 ``vehicle.getRoadID`` on a placed vehicle: it crashes for one off every lane.
 
 The libsumo-free helpers (vType parameters, lane hints, placement points, the replay
-configuration) are in :mod:`networks.placement`.
+configuration) are in :mod:`networks.sumo.placement`.
 """
 
 from __future__ import annotations
@@ -74,6 +74,8 @@ from __future__ import annotations
 import logging
 import math
 import os
+import sys
+import tempfile
 import time
 from collections import deque
 from collections.abc import Iterator, Sequence
@@ -89,7 +91,8 @@ from analysis.polyline import Path, prepare_path
 from analysis.tracking import TrackingSettings, simulate_batch
 from networks.curves import Curve
 from networks.geometry import heading_rad_to_navigational
-from networks.placement import (  # noqa: F401 - re-exported
+from networks.reader import Network
+from networks.sumo.placement import (  # noqa: F401 - re-exported
     REPLAY_COMMAND,
     edge_of_lane,
     first_on,
@@ -102,8 +105,7 @@ from networks.placement import (  # noqa: F401 - re-exported
     trailer_front,
     vtype_parameters,
 )
-from networks.reader import Network
-from networks.runs import (  # noqa: F401 - re-exported
+from networks.sumo.runs import (  # noqa: F401 - re-exported
     DEFAULT_SUMO_STEP_S,
     DrivenRun,
     DriveOptions,
@@ -251,13 +253,43 @@ def drive(
             d.error = d.error or "the model did not run"
             continue
         try:
-            d.result = evaluate(d.run, areas[d.curve.curve_id], options.offset_m)
+            # judged by its feature: the sweep while the vehicle is in it
+            d.result = evaluate(d.run, areas[d.curve.curve_id], options.offset_m,
+                                feature_m=(d.curve.core_start_m, d.curve.core_end_m))
         except (InputError, ValueError, shapely.errors.ShapelyError) as exc:
             # one run's bad geometry must not lose the others' results
             d.error = (d.error + "; " if d.error else "") + f"envelope or verdict failed: {exc}"
             log.warning("%s x %s: %s", d.vehicle.name, d.curve.curve_id, d.error)
     stats.evaluate_s += time.perf_counter() - t0
     return everything
+
+
+def _start_sumo(traci, cmd: list[str], net_path: str) -> None:  # noqa: ANN001 - libsumo
+    """``traci.start(cmd)``; SUMO's refusal (a network it cannot load) is an
+    :class:`InputError` in SUMO's words.
+
+    libsumo's exception says only "Process Error": SUMO writes why to the standard error
+    stream (not to its ``--error-log``), so that stream is caught while SUMO starts and
+    passed on unchanged when it starts.
+    """
+    sys.stderr.flush()
+    saved = os.dup(2)
+    with tempfile.TemporaryFile() as caught:
+        os.dup2(caught.fileno(), 2)
+        try:
+            traci.start(cmd)
+        except traci.TraCIException as exc:
+            os.dup2(saved, 2)
+            caught.seek(0)
+            lines = caught.read().decode(errors="replace").splitlines()
+            said = " ".join(ln.strip() for ln in lines if ln.startswith("Error:")) or str(exc)
+            raise InputError(f"{net_path}: SUMO cannot load the network: {said[:500]}") from None
+        finally:
+            os.dup2(saved, 2)
+            os.close(saved)
+        caught.seek(0)
+        if text := caught.read():
+            os.write(2, text)
 
 
 class _SumoSession:
@@ -289,7 +321,7 @@ class _SumoSession:
         if self.options.fcd_output is not None:
             cmd += ["--fcd-output", os.fspath(self.options.fcd_output),
                     "--fcd-output.attributes", "x,y,z,angle,type,speed"]
-        self.traci.start(cmd)
+        _start_sumo(self.traci, cmd, self.net_path)
         self.move_to_xy = self.traci.vehicle.moveToXY
         self.get_position = self.traci.vehicle.getPosition
         self.vtypes.clear()
@@ -382,9 +414,7 @@ class _SumoSession:
             if v.height_m is not None and math.isfinite(v.height_m):
                 t.vehicletype.setHeight(tid, v.height_m)
             t.vehicletype.setShapeClass(tid, shape_class(v.category))
-            vclass = getattr(v, "vclass", None)
-            if vclass:
-                t.vehicletype.setVehicleClass(tid, vclass)
+            t.vehicletype.setVehicleClass(tid, v.vclass)
             t.vehicletype.setParameter(tid, "model", v.name)
             t.vehicletype.setActionStepLength(tid, NO_DECISIONS_S, True)
             for k, val in vtype_parameters(v).items():
@@ -575,7 +605,7 @@ class _GiveUp(Exception):
 
 def _import_libsumo():
     """libsumo with SUMO_HOME set from the ``eclipse-sumo`` package."""
-    from networks.sumo_tools import sumo_home
+    from networks.sumo.tools import sumo_home
 
     try:
         os.environ.setdefault("SUMO_HOME", str(sumo_home()))

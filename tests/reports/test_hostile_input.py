@@ -1,0 +1,179 @@
+"""Hostile and broken input through the command line: exit 2, no traceback, the culprit named,
+nothing written. The classes: XML (bombs, entities, DTDs, truncation, encodings), numbers
+(NaN, inf, huge, tiny, negative), files (FIFO, device, directory, unreadable, symlink loop),
+references SUMO refuses, and option values given twice."""
+
+from __future__ import annotations
+
+import gzip
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from networks.samples.sources import SAMPLES_DIR
+from reports.cli import main
+from tests.networks import damaged
+
+REPO = Path(__file__).resolve().parents[2]
+INTERSECTION = SAMPLES_DIR / "intersection" / "intersection.net.xml"
+HEADER = "name,category,units,length,width,wheelbase,front_overhang,source,max_steer_deg\n"
+
+
+def refused(capsys, argv: list[str], *expected: str) -> str:
+    """Run the CLI: exit 2, no traceback, every expected piece in the message."""
+    code = main(argv)
+    err = capsys.readouterr().err
+    assert code == 2, err
+    assert "Traceback" not in err
+    for piece in expected:
+        assert piece in err, (piece, err)
+    return err
+
+
+def run_cli(argv: list[str], env: dict[str, str] | None = None) -> subprocess.CompletedProcess:
+    """The CLI in its own process, which cannot hang the tests (30 s)."""
+    return subprocess.run([sys.executable, "-m", "reports.cli", *argv], capture_output=True,
+                          text=True, timeout=30, cwd=REPO, env={**os.environ, **(env or {})},
+                          check=False)
+
+
+# -- networks
+
+
+@pytest.mark.parametrize("case", sorted(damaged.CASES))
+def test_curves_refuses_every_damaged_network(tmp_path, capsys, case):
+    path, expected = damaged.damage(case, tmp_path)
+    out = tmp_path / "curves.csv"
+    refused(capsys, ["curves", "-n", str(path), "-o", str(out)], expected)
+    assert not out.exists()
+
+
+@pytest.mark.parametrize("case", ["via-to-a-missing-lane", "lane-width-nan",
+                                  "roundabout-unknown-edge"])
+@pytest.mark.parametrize("command", ["report-simulate", "report-analytic", "simulate",
+                                     "check"])
+def test_every_command_refuses_before_any_run(tmp_path, capsys, case, command):
+    path, expected = damaged.damage(case, tmp_path)
+    out = tmp_path / "out"
+    argv = {
+        "report-simulate": ["report", "-n", str(path), "--vehicle", "P", "-o", str(out)],
+        "report-analytic": ["report", "-n", str(path), "--vehicle", "P", "-o", str(out),
+                            "--method", "analytic"],
+        "simulate": ["simulate", "-n", str(path), "--vehicle", "P", "-o", str(out)],
+        "check": ["check", "-n", str(path), "--design-vehicle", "P"],
+    }[command]
+    refused(capsys, argv, expected)
+    assert not out.exists()
+
+
+def test_a_fifo_as_the_network_or_its_dtd_never_hangs(tmp_path):
+    fifo = tmp_path / "n.net.xml"
+    os.mkfifo(fifo)
+    proc = run_cli(["curves", "-n", str(fifo)])
+    assert proc.returncode == 2 and "Traceback" not in proc.stderr
+    assert f"{fifo}: is a FIFO, not a regular file" in proc.stderr
+    net = tmp_path / "dtd.net.xml"
+    net.write_text(INTERSECTION.read_text().replace(
+        "<net ", f'<!DOCTYPE net SYSTEM "{fifo}">\n<net ', 1))
+    proc = run_cli(["curves", "-n", str(net)])
+    assert proc.returncode == 0, proc.stderr
+
+
+@pytest.mark.parametrize("kind", ["device", "directory", "symlink-loop", "under-a-file"])
+def test_special_files_as_the_network(tmp_path, capsys, kind):
+    p = tmp_path / "n.net.xml"
+    if kind == "device":
+        p, expected = Path("/dev/zero"), "is a character device, not a regular file"
+    elif kind == "directory":
+        p.mkdir()
+        expected = "is a directory, not a regular file"
+    elif kind == "symlink-loop":
+        os.symlink(p, p)
+        expected = "cannot be read (Too many levels of symbolic links)"
+    else:
+        (tmp_path / "f").write_text("x")
+        p, expected = tmp_path / "f" / "n.net.xml", "cannot be read (Not a directory)"
+    refused(capsys, ["curves", "-n", str(p)], f"{p}: {expected}")
+
+
+def test_a_decompression_bomb_stops_at_the_cap_named_with_its_variable(tmp_path):
+    bomb = tmp_path / "bomb.net.xml.gz"
+    row = b'<connection from="a" to="a" fromLane="0" toLane="0" dir="t"/>\n'
+    with gzip.open(bomb, "wb") as fh:
+        fh.write(b'<net><edge id="a" from="J" to="K"><lane id="a_0" index="0" '
+                 b'shape="0,0 10,0"/></edge>')
+        for _ in range(30):
+            fh.write(row * 10000)
+        fh.write(b"</net>")
+    proc = run_cli(["curves", "-n", str(bomb)], env={"CLEARANCE_MAX_ELEMENTS": "100000"})
+    assert proc.returncode == 2 and "Traceback" not in proc.stderr
+    assert "the number of elements exceeds the limit of 100,000 elements" in proc.stderr
+    assert "set the environment variable CLEARANCE_MAX_ELEMENTS higher" in proc.stderr
+
+
+@pytest.mark.parametrize("text", [
+    b"",
+    b"\xef\xbb\xbf",
+    b"<net",
+    b'<?xml version="1.0"?><net><edge id="a"><lane id="a_0" shape="0,0 1,1"/>',
+    b'<?xml version="1.0"?><!DOCTYPE net [<!ENTITY a "x"><!ENTITY b "&a;&a;">]><net/>',
+    b'<?xml version="1.0" encoding="klingon"?><net/>',
+    b"\xff\xfe<\x00n\x00e\x00t\x00",
+    b"<net>\x00</net>",
+    gzip.compress(b"<net><edge id='a'>")[:-5],
+])
+def test_broken_xml(tmp_path, capsys, text):
+    p = tmp_path / "b.net.xml"
+    p.write_bytes(text)
+    refused(capsys, ["curves", "-n", str(p)], f"{p}: ")
+
+
+# -- vehicle tables
+
+
+def test_a_fifo_as_the_table_never_hangs(tmp_path):
+    fifo = tmp_path / "t.csv"
+    os.mkfifo(fifo)
+    proc = run_cli(["vehicles", "-t", str(fifo)])
+    assert proc.returncode == 2 and "Traceback" not in proc.stderr
+    assert f"{fifo}: is a FIFO, not a regular file" in proc.stderr
+
+
+@pytest.mark.parametrize("row, expected", [
+    ("A,car,m,4.5,1.8,2.7,0.9,test,1e-300", "column max_steer_deg: '1e-300': outside the range"),
+    ("A,car,m,4.5,1e300,2.7,0.9,test,35", "column width: '1e300': outside the range"),
+    ("A,car,m,4.5,nan,2.7,0.9,test,35", "column width: 'nan': not a finite number"),
+    ("A,car,m,inf,1.8,2.7,0.9,test,35", "column length: 'inf': not a finite number"),
+    ("A,car,m,4.5,1.8,-2.7,0.9,test,35", "column wheelbase: '-2.7': outside the range"),
+    ("A,car,m,4.5,1.8,2.7,0.9,test,0", "column max_steer_deg: '0': outside the range"),
+    ('"A\nB",car,m,4.5,1.8,2.7,0.9,test,35', "column name: 'A\\nB': holds a line"),
+    ("A\u2028B,car,m,4.5,1.8,2.7,0.9,test,35", "holds a line or paragraph separator (U+2028)"),
+])
+def test_bad_numbers_and_cells_in_a_table(tmp_path, capsys, row, expected):
+    p = tmp_path / "t.csv"
+    p.write_text(HEADER + row + "\n")
+    refused(capsys, ["vehicles", "-t", str(p), "-o", str(tmp_path / "out.csv")],
+            f"{p}:2", expected)
+    assert not (tmp_path / "out.csv").exists()
+
+
+def test_dev_zero_and_a_directory_as_the_table(tmp_path, capsys):
+    refused(capsys, ["vehicles", "-t", "/dev/zero"], "/dev/zero: is a character device")
+    refused(capsys, ["vehicles", "-t", str(tmp_path)], f"{tmp_path}: is a directory")
+
+
+def test_a_vehicle_given_twice_runs_once(tmp_path, capsys):
+    # it crashed after the whole study had run
+    out = tmp_path / "r"
+    code = main(["simulate", "-n", str(INTERSECTION), "--vehicle", "P", "--vehicle", "SU-30",
+                 "--vehicle", "P", "--curve", "turn:T:TW_in_0->TS_out_0", "--no-sumo",
+                 "-o", str(out)])
+    assert code == 0, capsys.readouterr().err
+    rows = (out / "results.csv").read_text().splitlines()[1:]
+    assert [r.split(",")[0] for r in rows] == ["P", "SU-30"]
+    code = main(["vehicles", "--vehicle", "P", "--vehicle", "P", "-o", str(tmp_path / "v.csv")])
+    assert code == 0
+    assert (tmp_path / "v.csv").read_text().count("\nP,") == 1
