@@ -1,7 +1,9 @@
 """`clearance report` as a user runs it: every output, determinism, atomicity."""
 
+import base64
 import csv
 import html
+import io
 import json
 import math
 import os
@@ -346,3 +348,25 @@ def test_waivers_and_a_selection(tmp_path):
     with open(out / "clearance.csv", newline="") as fh:
         assert list(next(csv.DictReader(fh))) == COLUMNS
     assert "waived" not in json.loads((out / "summary.json").read_text())
+
+
+def test_embedded_figures_are_compact_copies(report):
+    from PIL import Image
+
+    from reports.document import HTML_IMAGE_COLOURS, HTML_IMAGE_WIDTH_PX, compact_png
+
+    text = (report / "report.html").read_text()
+    embedded = re.findall(r'src="data:image/png;base64,([^"]+)"', text)
+    pngs = sorted((report / "figures").glob("*.png"))
+    assert embedded and pngs
+    for png in pngs[:4]:
+        small = compact_png(png)
+        with Image.open(io.BytesIO(small)) as im, Image.open(png) as full:
+            assert im.width == min(full.width, HTML_IMAGE_WIDTH_PX)
+            assert im.mode == "P" and len(im.getcolors(256)) <= HTML_IMAGE_COLOURS
+            # the same picture: aspect kept
+            assert abs(im.height / im.width - full.height / full.width) < 0.01
+        assert len(small) < png.stat().st_size
+    # what the page embeds is those copies, not the full figures
+    sizes = sorted(len(base64.b64decode(e)) for e in embedded)
+    assert sizes[-1] < max(p.stat().st_size for p in pngs)
