@@ -129,7 +129,10 @@ def write_exports(study: Study, folder: Path, origin: tuple[float, float] | None
                   ) -> dict[str, dict[str, str]]:
     """Each network's sumo-gui additional file, DXF and GeoJSON under ``folder/exports``
     (:func:`export_names`); returns the names written by network."""
-    from reports.exports import by_network, write_dxf, write_geojson, write_sumo_additional
+    from reports.export_dxf import write_dxf
+    from reports.export_geojson import write_geojson
+    from reports.export_sumo import write_sumo_additional
+    from reports.exports import by_network
 
     groups = by_network(envelope_records(study))
     written = {}

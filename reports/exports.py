@@ -14,7 +14,8 @@ network (:func:`by_network`), each in that network's own coordinates.
   plan and, per vehicle, layers for the envelopes, the conflict and (when known) body
   outlines and wheel paths.
 
-This module holds the record and the checks the writers share.
+This module holds the record and the checks the writers share; it imports none of them
+(each writer imports it), so import a writer from its own module.
 """
 
 from __future__ import annotations
@@ -22,7 +23,7 @@ from __future__ import annotations
 import math
 from collections.abc import Iterable
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 import numpy as np
 import shapely
@@ -32,11 +33,6 @@ from shapely.geometry.polygon import orient
 from analysis.clearance import VERDICTS
 from vehicles.errors import InputError
 
-if TYPE_CHECKING:  # pragma: no cover - only for type checkers
-    from reports.export_dxf import write_dxf
-    from reports.export_geojson import write_geojson
-    from reports.export_sumo import write_sumo_additional
-
 __all__ = [
     "EnvelopeRecord",
     "VERDICT_RGBA",
@@ -44,9 +40,6 @@ __all__ = [
     "checked_records",
     "conflict_parts",
     "polygon_parts",
-    "write_dxf",
-    "write_geojson",
-    "write_sumo_additional",
 ]
 
 #: Colour of each verdict as (red, green, blue, alpha), 0-255; alpha makes fills see-through.
@@ -241,20 +234,3 @@ def by_network(records: Iterable[EnvelopeRecord]) -> dict[str, list[EnvelopeReco
     for r in records:
         out.setdefault(r.network, []).append(r)
     return dict(sorted(out.items()))
-
-
-def __getattr__(name: str) -> Any:
-    """The writers, imported on first use (they import this module)."""
-    if name == "write_geojson":
-        from reports.export_geojson import write_geojson
-
-        return write_geojson
-    if name == "write_sumo_additional":
-        from reports.export_sumo import write_sumo_additional
-
-        return write_sumo_additional
-    if name == "write_dxf":
-        from reports.export_dxf import write_dxf
-
-        return write_dxf
-    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

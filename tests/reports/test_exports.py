@@ -23,16 +23,10 @@ from shapely.ops import unary_union
 
 from networks.reader import Location, read_network
 from networks.sumo.tools import find_sumo_binary, sumo_home
-from reports.export_dxf import BASE_LAYERS, VERDICT_ACI, dxf_layer_name
-from reports.export_geojson import COORDS_LOCAL, COORDS_LONLAT, COORDS_MIXED
-from reports.export_sumo import hole_free_pieces
-from reports.exports import (
-    EnvelopeRecord,
-    conflict_parts,
-    write_dxf,
-    write_geojson,
-    write_sumo_additional,
-)
+from reports.export_dxf import BASE_LAYERS, VERDICT_ACI, dxf_layer_name, write_dxf
+from reports.export_geojson import COORDS_LOCAL, COORDS_LONLAT, COORDS_MIXED, write_geojson
+from reports.export_sumo import hole_free_pieces, write_sumo_additional
+from reports.exports import EnvelopeRecord, conflict_parts
 from vehicles.errors import InputError
 
 SAMPLES = Path(__file__).resolve().parents[2] / "networks" / "samples"
@@ -350,7 +344,7 @@ DXF_SCRIPT = """
 import sys
 sys.path.insert(0, sys.argv[2])
 from test_exports import records
-from reports.exports import write_dxf
+from reports.export_dxf import write_dxf
 write_dxf(sys.argv[1], records())
 """
 
