@@ -44,7 +44,7 @@ LAYOUT = Layout(
     "report",
     files=frozenset({"clearance.csv", "summary.json", "report.md", "report.html",
                      "swept.geojson", "swept.add.xml", "swept.dxf"}),
-    folders={"figures": (".png", ".svg"), "fcd": (".xml",)},
+    folders={"figures": (".png", ".svg"), "fcd": (".xml",), "sheets": (".pdf",)},
     signature=("clearance.csv", ",".join(COLUMNS[:4])),
 )
 
@@ -59,7 +59,8 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
         "report",
         help="clearance report: every vehicle through every curve of every network",
         description="Every vehicle x every curve of every network: clearance.csv, "
-                    "summary.json, report.html, report.md with figures, swept.geojson, "
+                    "summary.json, report.html, report.md with figures, sheets/<network>.pdf "
+                    "(A3 swept-path sheets, worst runs first), swept.geojson, "
                     "swept.add.xml (sumo-gui) and swept.dxf (CAD). Without arguments: the "
                     "bundled sample networks and vehicle tables, output under reports/out/.",
     )
@@ -95,6 +96,7 @@ def write_report(study: Study, folder: Path, tables: list[Path], units: str = "m
     """Write every output of ``study`` into ``folder`` (which must be new or empty);
     ``waived`` runs are shown as such (:mod:`reports.waivers`)."""
     from reports.exports import write_dxf, write_geojson, write_sumo_additional
+    from reports.sheets import write_sheets
 
     write_text_atomic(folder / "clearance.csv", clearance_csv(study, waived))
     write_text_atomic(folder / "summary.json", summary_json(study, tables, waived))
@@ -106,6 +108,7 @@ def write_report(study: Study, folder: Path, tables: list[Path], units: str = "m
     write_geojson(folder / "swept.geojson", records, locations)
     write_sumo_additional(folder / "swept.add.xml", records)
     write_dxf(folder / "swept.dxf", records)
+    write_sheets(study, folder / "sheets", tables, units)
 
 
 def run(args: argparse.Namespace) -> int:

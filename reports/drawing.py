@@ -24,6 +24,7 @@ deterministic and SUMO only replays it, so the envelope and the verdict are the 
 from __future__ import annotations
 
 import math
+import textwrap
 from collections.abc import Sequence
 from dataclasses import dataclass
 
@@ -157,6 +158,10 @@ def view_bounds(curve: Curve, shown: Sequence[Shown], pad_m: float = 6.0,
     """A view (x0, x1, y0, y1) around the curve's feature and the drawn envelopes, of
     width / height ``aspect``."""
     pts = np.asarray(curve.centerline)[:, :2]
+    station = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(pts, axis=0).T))])
+    core = (station >= curve.core_start_m - 1e-6) & (station <= curve.core_end_m + 1e-6)
+    if core.sum() >= 2:
+        pts = pts[core]
     boxes = [pts.min(axis=0).tolist() + pts.max(axis=0).tolist()]
     for s in shown:
         env = s.record.envelope
@@ -251,14 +256,17 @@ def _rgb(colour: str) -> tuple[float, float, float]:
     return to_rgb(colour)
 
 
-def _dimension(ax: Axes, a: np.ndarray, b: np.ndarray, text: str, colour: str) -> None:
-    """A dimension line from ``a`` to ``b`` with arrow heads and its value."""
+def _dimension(ax: Axes, a: np.ndarray, b: np.ndarray, text: str, colour: str,
+               offset: tuple[float, float] = (8, 8)) -> None:
+    """A dimension line from ``a`` to ``b`` with arrow heads and its value, the label
+    ``offset`` points away."""
     ax.annotate("", xy=tuple(b), xytext=tuple(a),
                 arrowprops=dict(arrowstyle="<|-|>,head_width=0.2,head_length=0.5",
                                 color=colour, lw=0.9, shrinkA=0, shrinkB=0), zorder=14)
     mid = (np.asarray(a) + np.asarray(b)) / 2
-    ax.annotate(text, xy=tuple(mid), xytext=(6, 6), textcoords="offset points", fontsize=6.5,
-                color="black", zorder=15, ha="left", va="bottom",
+    ax.annotate(text, xy=tuple(mid), xytext=offset, textcoords="offset points",
+                fontsize=6.5, color="black", zorder=15, ha="left",
+                va="bottom" if offset[1] >= 0 else "top", annotation_clip=False,
                 bbox=dict(boxstyle="round,pad=0.2", fc="white", ec=colour, lw=0.6),
                 arrowprops=dict(arrowstyle="-", color=colour, lw=0.5))
 
@@ -316,11 +324,14 @@ def draw_run(ax: Axes, curve: Curve, s: Shown, units: str, bodies: int = 7,
     if run.reason:
         x, y = float(tr.xf_m[-1]), float(tr.yf_m[-1])
         ax.plot([x], [y], marker="X", ms=10, mfc=colour, mec="black", mew=0.8, zorder=16)
-        text = f"{rec.vehicle} stops: {stop_words(run, units)}" if words else (
-            f"{rec.vehicle} stops")
-        ax.annotate(text, xy=(x, y),
-                    xytext=(10, -14), textcoords="offset points", fontsize=6.5, zorder=16,
-                    wrap=True, bbox=dict(boxstyle="round,pad=0.25", fc="#fff8dc",
+        text = (textwrap.fill(f"{rec.vehicle} stops: {stop_words(run, units)}", 38) if words
+                else f"{rec.vehicle} stops")
+        x0, x1 = ax.get_xlim()
+        right = x > (x0 + x1) / 2  # the words toward the middle of the drawing
+        ax.annotate(text, xy=(x, y), annotation_clip=False, va="top",
+                    ha="right" if right else "left", xytext=(-12 if right else 12, -12),
+                    textcoords="offset points", fontsize=6.5, zorder=16,
+                    bbox=dict(boxstyle="round,pad=0.25", fc="#fff8dc",
                                          ec="black", lw=0.6),
                     arrowprops=dict(arrowstyle="-", lw=0.6))
 
@@ -344,7 +355,7 @@ def _dimensions(ax: Axes, curve: Curve, s: Shown, units: str) -> None:
                                                                              tr.yf_m])))
         a, b = np.asarray(line.coords)
         _dimension(ax, a, b, f"offtracking {length_text(swept.max_offtracking_m, units)}",
-                   s.colour)
+                   s.colour, offset=(-14, -18))
 
 
 def badge_text(rec: RunRecord, units: str) -> str:
@@ -365,6 +376,10 @@ def draw_curve(ax: Axes, nc: NetworkCurves, curve: Curve, shown: Sequence[Shown]
     plot_plan(nc.network, ax, None, bounds, decorate=False)
     if curve.own_lanes is not None:
         _outline(ax, curve.own_lanes, color=OWN_LANES, lw=0.9, ls=(0, (4, 2)), zorder=5)
+    order = {"error": -1, "cannot-turn": 0, "fails": 1, "encroaches": 2, "clear": 3}
+    shown = sorted(shown, key=lambda s: (order.get(s.record.verdict, 9),
+                                         s.record.margin_m if math.isfinite(s.record.margin_m)
+                                         else -math.inf))
     single = len(shown) == 1
     # several vehicles: the worst one (first) in full, the others by envelope, wheel paths
     # and where they stop, so that the drawing stays legible
