@@ -216,7 +216,7 @@ def _wheels(ax: Axes, v: Vehicle, x: float, y: float, th: float, phi: float, col
                                  zorder=9))
 
 
-def _bodies(ax: Axes, run: TrackingRun, colour: str, count: int) -> None:
+def draw_bodies(ax: Axes, run: TrackingRun, colour: str, count: int) -> None:
     """The vehicle at ``count`` positions; first and last bold, an arrow of travel."""
     v, tr = run.vehicle, run.trajectory
     idx = _poses(run, count)
@@ -256,7 +256,7 @@ def _rgb(colour: str) -> tuple[float, float, float]:
     return to_rgb(colour)
 
 
-def _dimension(ax: Axes, a: np.ndarray, b: np.ndarray, text: str, colour: str,
+def dimension(ax: Axes, a: np.ndarray, b: np.ndarray, text: str, colour: str,
                offset: tuple[float, float] = (8, 8)) -> None:
     """A dimension line from ``a`` to ``b`` with arrow heads and its value, the label
     ``offset`` points away."""
@@ -318,7 +318,7 @@ def draw_run(ax: Axes, curve: Curve, s: Shown, units: str, bodies: int = 7,
     if tr.xt_m is not None:
         ax.plot(tr.xt_m, tr.yt_m, color=colour, lw=0.7, ls=(0, (6, 1.5, 1, 1.5)), zorder=9)
     ax.plot(tr.xf_m, tr.yf_m, color="black", lw=0.6, ls=(0, (8, 2)), zorder=9)
-    _bodies(ax, run, colour, bodies)
+    draw_bodies(ax, run, colour, bodies)
     if dimensions:
         _dimensions(ax, curve, s, units)
     if run.reason:
@@ -346,7 +346,7 @@ def _dimensions(ax: Axes, curve: Curve, s: Shown, units: str) -> None:
         found = overreach(res.measured, curve.own_lanes), "beyond its lanes", OUTSIDE_LANES[1]
     if found is not None and found[0] is not None:
         (a, b, d), words, colour = found
-        _dimension(ax, a, b, f"{s.record.vehicle}: {length_text(d, units)} {words}", colour)
+        dimension(ax, a, b, f"{s.record.vehicle}: {length_text(d, units)} {words}", colour)
     tr = run.trajectory
     if len(tr) > 1 and swept.max_offtracking_m > 0.05:
         i = int(np.argmax(swept.offtracking_m))
@@ -354,7 +354,7 @@ def _dimensions(ax: Axes, curve: Curve, s: Shown, units: str) -> None:
         line = shapely.shortest_line(q, shapely.LineString(np.column_stack([tr.xf_m,
                                                                              tr.yf_m])))
         a, b = np.asarray(line.coords)
-        _dimension(ax, a, b, f"offtracking {length_text(swept.max_offtracking_m, units)}",
+        dimension(ax, a, b, f"offtracking {length_text(swept.max_offtracking_m, units)}",
                    s.colour, offset=(-14, -18))
 
 
