@@ -100,7 +100,8 @@ def length_text(value_m: float, units: str, digits: int = 2) -> str:
 
 
 def stop_words(run: TrackingRun, units: str = "m") -> str:
-    """Why a run stopped, in words a designer reads (empty when it did not stop).
+    """Why a run could not be driven as asked, in words a designer reads (empty when it
+    could); :func:`stop_point` is where.
 
     Examples
     --------
@@ -122,9 +123,20 @@ def stop_words(run: TrackingRun, units: str = "m") -> str:
     if run.max_error_m > run.settings.tolerance_m:
         lock = (" with the wheels at full lock" if run.steps_at_lock
                 else " at its steering rate" if run.steps_rate_limited else "")
-        return (f"cannot follow the path{lock}: {off} off it at station {where} (allowed "
-                f"{tol}); needs a wider turn or reversing")
-    return "did not reach the end of the path"
+        verb = "cannot hold the path" if run.reached_end else "stops: cannot follow the path"
+        return (f"{verb}{lock}, {off} off it at station {where} (allowed {tol}); "
+                "needs a wider turn or reversing")
+    return "stops: did not reach the end of the path"
+
+
+def stop_point(run: TrackingRun) -> tuple[float, float]:
+    """Where :func:`stop_words` applies: the last position of a run that stopped, else
+    the steered axle where it was farthest off the path."""
+    tr = run.trajectory
+    i = len(tr) - 1
+    if run.reached_end and run.jackknife_time_s is None and len(tr):
+        i = int(np.argmax(np.abs(tr.error_m)))
+    return float(tr.xf_m[i]), float(tr.yf_m[i])
 
 
 def overreach(measured: BaseGeometry, area: BaseGeometry, step_m: float = 0.1
@@ -156,13 +168,18 @@ def overreach(measured: BaseGeometry, area: BaseGeometry, step_m: float = 0.1
 def view_bounds(curve: Curve, shown: Sequence[Shown], pad_m: float = 6.0,
                 aspect: float = 1.0) -> tuple[float, float, float, float]:
     """A view (x0, x1, y0, y1) around the curve's feature and the drawn envelopes, of
-    width / height ``aspect``."""
+    width / height ``aspect`` (only the envelopes when every run drawn is ``cannot-turn``:
+    the feature beyond where they stop would shrink the drawing)."""
     pts = np.asarray(curve.centerline)[:, :2]
     station = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(pts, axis=0).T))])
     core = (station >= curve.core_start_m - 1e-6) & (station <= curve.core_end_m + 1e-6)
     if core.sum() >= 2:
         pts = pts[core]
-    boxes = [pts.min(axis=0).tolist() + pts.max(axis=0).tolist()]
+    # the whole feature, unless every run drawn stopped short of it (then its envelope)
+    stopped = bool(shown) and all(s.record.verdict == "cannot-turn" and s.record.envelope
+                                  is not None and not s.record.envelope.is_empty
+                                  for s in shown)
+    boxes = [] if stopped else [pts.min(axis=0).tolist() + pts.max(axis=0).tolist()]
     for s in shown:
         env = s.record.envelope
         if env is not None and not env.is_empty:
@@ -322,10 +339,11 @@ def draw_run(ax: Axes, curve: Curve, s: Shown, units: str, bodies: int = 7,
     if dimensions:
         _dimensions(ax, curve, s, units)
     if run.reason:
-        x, y = float(tr.xf_m[-1]), float(tr.yf_m[-1])
+        x, y = stop_point(run)
         ax.plot([x], [y], marker="X", ms=10, mfc=colour, mec="black", mew=0.8, zorder=16)
-        text = (textwrap.fill(f"{rec.vehicle} stops: {stop_words(run, units)}", 38) if words
-                else f"{rec.vehicle} stops")
+        said = stop_words(run, units)
+        text = (textwrap.fill(f"{rec.vehicle} {said}", 38) if words
+                else f"{rec.vehicle} {said.split(':')[0].split(',')[0]}")
         x0, x1 = ax.get_xlim()
         right = x > (x0 + x1) / 2  # the words toward the middle of the drawing
         ax.annotate(text, xy=(x, y), annotation_clip=False, va="top",
@@ -437,5 +455,5 @@ def legend_handles(shown: Sequence[Shown], units: str, trailer: bool) -> list:
                         label=f"envelope line: {v}"))
     if any(s.run is not None and s.run.reason for s in shown):
         h.append(Line2D([], [], marker="X", ms=7, color="none", mfc=grey, mec="black",
-                        label="run stops here (reason beside)"))
+                        label="cannot follow the path here (why beside)"))
     return h

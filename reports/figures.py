@@ -1,7 +1,9 @@
 """Figures of a clearance report: network plans with the worst curves, swept paths.
 
-Every figure is a plan in metres (x east, y north) with labelled axes, a scale bar, a north
-arrow and a legend, written as PNG and SVG at print size.
+Every figure is a plan (x east, y north) with axes, a scale bar and numbers in the report's
+units (metres or feet), a north arrow and a legend, written as PNG and SVG at print size.
+The swept paths are drawn by :mod:`reports.drawing`; each vehicle keeps its colour
+(:func:`reports.plotting.vehicle_colours`) in every figure.
 """
 
 from __future__ import annotations

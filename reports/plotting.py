@@ -55,9 +55,9 @@ def save(fig: Figure, path_stem: str | Path, formats: tuple[str, ...] = ("png", 
 #: Vehicle colours: distinguishable on a grey plan and in print, none of them the
 #: conflict hatches' red and orange or the plan's greys. A vehicle keeps its colour
 #: (:func:`vehicle_colours`) in every figure and sheet of a report.
-PALETTE = ("#1f77b4", "#2ca02c", "#9467bd", "#8c564b", "#e377c2", "#17becf", "#b15928",
+PALETTE = ("#1f77b4", "#2ca02c", "#9467bd", "#8c564b", "#e377c2", "#17becf", "#008080",
            "#393b79", "#637939", "#8c6d31", "#7b4173", "#3182bd", "#31a354", "#756bb1",
-           "#636363", "#6a3d9a", "#ad494a", "#0e6655", "#1b9e77", "#a55194")
+           "#636363", "#6a3d9a", "#2f4f4f", "#0e6655", "#1b9e77", "#a55194")
 
 
 def vehicle_colours(names: Sequence[str]) -> dict[str, str]:

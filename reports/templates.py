@@ -228,7 +228,7 @@ def steady_words(metrics_row, units: str) -> str:
             f"radius {length_text(metrics_row['trailer_inside_radius_m'], units)}")
 
 
-def _template_panel(ax, t: Template, units: str, colour: str, n: int) -> dict[str, object]:
+def _template_panel(ax, t: Template, units: str, colour: str) -> dict[str, object]:
     from reports.drawing import dimension, draw_bodies, length_text
 
     dims = template_dimensions(t)
@@ -264,7 +264,6 @@ def _template_panel(ax, t: Template, units: str, colour: str, n: int) -> dict[st
     if math.isfinite(width):
         dimension(ax, inner, outer, f"swept width {length_text(width, units)}", "#c0392b",
                   (6, -16))
-    x0, x1 = ax.get_xlim()
     return dims
 
 
@@ -300,7 +299,7 @@ def template_sheet(t90: Template, t180: Template, metrics_row, units: str, colou
         ax.set_xlim(cx - hw, cx + hw)
         ax.set_ylim(cy - hh, cy + hh)
         ax.set_aspect("equal")
-        dims.append(_template_panel(ax, t, units, colour, n))
+        dims.append(_template_panel(ax, t, units, colour))
         plan_axes(ax, units, labels=False)
         add_scale_bar(ax, units)
         add_north_arrow(ax)

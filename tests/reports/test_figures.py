@@ -99,7 +99,7 @@ def test_the_curve_drawing_hatches_the_conflict_and_says_where_a_run_stops(study
     assert any(t.startswith("offtracking ") and t.endswith(" ft") for t in texts)
     assert any(t.endswith(("ft beyond its lanes", "ft beyond the pavement")) for t in texts)
     if worst.verdict == "cannot-turn":
-        assert any("stops" in t for t in texts)
+        assert any("stops" in t or "cannot hold the path" in t for t in texts)
     for needed in ("outer front wheel path", "inner rear wheel path", "outside the pavement",
                    "outside its own lanes (paved)", "edge of pavement", "own lanes"):
         assert needed in labels

@@ -12,6 +12,7 @@ from reports.drawing import Shown, view_bounds
 from reports.figures import shown_runs
 from reports.sheets import (
     FRAME_MM,
+    MAX_SHEETS,
     PAPER_MM,
     SCALES,
     fit_scale,
@@ -127,3 +128,17 @@ def test_rerun_for_the_drawing_gives_the_studys_verdict_and_margin(study):
             assert s.driven.verdict == s.record.verdict
             assert s.driven.result.clearance.margin_m == pytest.approx(s.record.margin_m,
                                                                        abs=1e-9)
+
+
+def test_clearance_report_writes_the_sheets_into_its_folder(tmp_path):
+    from reports.cli import main
+
+    out = tmp_path / "rep"
+    args = ["report", "-n", str(NET), "-o", str(out), "--vehicle", "P", "--junction", "T",
+            "--units", "ft"]
+    assert main(args) == 0
+    rows = (out / "clearance.csv").read_text().splitlines()[1:]
+    pdf = out / "sheets" / "intersection.pdf"
+    assert len(pdf_pages(pdf.read_bytes())) == min(MAX_SHEETS, len(rows))
+    # a second run replaces the folder (the sheets are part of the report's layout)
+    assert main(args) == 0 and pdf.is_file()
