@@ -55,9 +55,9 @@ def save(fig: Figure, path_stem: str | Path, formats: tuple[str, ...] = ("png", 
 #: Vehicle colours: distinguishable on a grey plan and in print, none of them the
 #: conflict hatches' red and orange or the plan's greys. A vehicle keeps its colour
 #: (:func:`vehicle_colours`) in every figure and sheet of a report.
-PALETTE = ("#1f77b4", "#2ca02c", "#9467bd", "#8c564b", "#e377c2", "#17becf", "#008080",
-           "#393b79", "#637939", "#8c6d31", "#7b4173", "#3182bd", "#31a354", "#756bb1",
-           "#636363", "#6a3d9a", "#2f4f4f", "#0e6655", "#1b9e77", "#a55194")
+PALETTE = ("#1f77b4", "#2ca02c", "#9467bd", "#8c564b", "#e377c2", "#17becf", "#000075",
+           "#808000", "#f032e6", "#469990", "#7b4173", "#636363", "#31a354", "#756bb1",
+           "#6a3d9a", "#2f4f4f", "#0e6655", "#1b9e77", "#a55194", "#3182bd")
 
 
 def vehicle_colours(names: Sequence[str]) -> dict[str, str]:
@@ -108,7 +108,8 @@ def plan_axes(ax: Axes, units: str = "m", labels: bool = True) -> None:
     for axis, lim in ((ax.xaxis, ax.get_xlim()), (ax.yaxis, ax.get_ylim())):
         step = nice_step((lim[1] - lim[0]) / scale)
         axis.set_major_locator(MultipleLocator(step * scale))
-        axis.set_major_formatter(FuncFormatter(lambda v, _p: f"{v / scale:g}"))
+        # rounded: a tick at 0 computed as -7e-15 must read "0"
+        axis.set_major_formatter(FuncFormatter(lambda v, _p: f"{round(v / scale, 6) + 0.0:g}"))
     if labels:
         ax.set_xlabel(f"x [{units}] (east)")
         ax.set_ylabel(f"y [{units}] (north)")

@@ -96,14 +96,20 @@ def plot_templates(table: VehicleTable, folder: str | Path, units: str = "m",
 
 
 def _plot(templates: list[Template], stem: Path, units: str) -> list[Path]:
+    """Small multiples of the templates at one scale, each model drawn at the start, the
+    middle and the end of its turn (drawn in metres, ticks in ``units``)."""
+    from reports.drawing import draw_bodies
+    from reports.plotting import plan_axes, vehicle_colours
+
     scale = length_scale(units)
     n = len(templates)
     ncols = min(n, 4)
     nrows = math.ceil(n / ncols)
+    colours = vehicle_colours([t.vehicle.name for t in templates])
     # One scale: every panel spans the same extent (the largest template's).
     bounds = np.array([t.swept.envelope.bounds for t in templates])
     half = 0.55 * float(max((bounds[:, 2] - bounds[:, 0]).max(),
-                            (bounds[:, 3] - bounds[:, 1]).max())) / scale
+                            (bounds[:, 3] - bounds[:, 1]).max()))
     fig, _ = new_figure(2.1 * ncols + 0.4, 2.2 * nrows + 0.6)
     fig.clf()
     axes = fig.subplots(nrows, ncols, squeeze=False)
@@ -111,33 +117,36 @@ def _plot(templates: list[Template], stem: Path, units: str) -> list[Path]:
         ax.set_visible(False)
     for ax, t in zip(axes.flat, templates, strict=False):
         env = t.swept.envelope
-        cx, cy = [(a + b) / 2 / scale for a, b in zip(env.bounds[:2], env.bounds[2:],
-                                                         strict=True)]
+        colour = colours[t.vehicle.name]
+        cx, cy = [(a + b) / 2 for a, b in zip(env.bounds[:2], env.bounds[2:], strict=True)]
         for poly in getattr(env, "geoms", [env]):
-            x, y = np.asarray(poly.exterior.coords).T / scale
-            ax.fill(x, y, color="#f5b7b1", lw=0, label="swept envelope")
-            ax.plot(x, y, color="#c0392b", lw=0.8)
+            x, y = np.asarray(poly.exterior.coords).T
+            ax.fill(x, y, color=colour, alpha=0.12, lw=0)
+            ax.plot(x, y, color=colour, lw=0.8, label="swept envelope")
         for _name, track in sorted(t.swept.wheel_tracks.items()):
-            x, y = np.asarray(track.coords).T / scale
-            ax.plot(x, y, color="#2e86c1", lw=0.5, label="wheel tracks")
+            x, y = np.asarray(track.coords).T
+            ax.plot(x, y, color="#555555", lw=0.4, label="wheel tracks")
         tr = t.run.trajectory
-        ax.plot(tr.xf_m / scale, tr.yf_m / scale, color="black", lw=0.6, ls="--",
+        ax.plot(tr.xf_m, tr.yf_m, color="black", lw=0.6, ls="--",
                 label="steered-axle centre")
+        draw_bodies(ax, t.run, colour, 3)
         ax.set_xlim(cx - half, cx + half)
         ax.set_ylim(cy - half, cy + half)
         ax.set_aspect("equal")
+        plan_axes(ax, units, labels=False)
         ax.set_title(f"{t.vehicle.name}\nCTR {t.radius_m / scale:.1f} {units}, "
                      f"swept {t.swept.max_swept_width_m / scale:.1f} {units}", fontsize=7)
         ax.tick_params(labelsize=6)
         ax.grid(alpha=0.3)
     first = axes.flat[0]
     handles, labels = first.get_legend_handles_labels()
-    unique = dict(zip(labels, handles, strict=True))
+    unique = dict(zip(labels, handles, strict=False))
     fig.legend(unique.values(), unique.keys(), loc="upper center", ncol=3, fontsize=7,
                frameon=False, bbox_to_anchor=(0.5, 1.0))
     angle = templates[0].angle_deg if templates else 0.0
-    fig.suptitle(f"{angle:g}° turning templates at each model's minimum radius "
-                 f"(one scale; axes in {units})", y=1.03, fontsize=10)
+    fig.suptitle(f"{angle:g}° turning templates at each model's minimum radius, the vehicle "
+                 f"at start, middle and end (one scale; axes in {units}; one sheet each in "
+                 "templates.pdf)", y=1.03, fontsize=9)
     fig.tight_layout()
     return save(fig, stem)
 

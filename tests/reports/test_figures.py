@@ -55,6 +55,7 @@ def test_units_ft_put_ticks_and_scale_bar_in_round_feet():
     ft = [t / 0.3048 for t in ticks]
     assert len(ticks) >= 3 and np.allclose(ft, np.round(ft))  # ticks at whole feet ...
     assert [float(fmt(t)) for t in ticks] == pytest.approx(ft)  # ... labelled in feet
+    assert fmt(-7e-15) == "0"  # a zero computed a hair off zero reads as zero
     assert length / 0.3048 in (10.0, 20.0, 25.0, 50.0)
     texts = [t.get_text() for t in ax.texts]
     assert f"{length / 0.3048:g} ft" in texts
