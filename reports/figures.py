@@ -144,15 +144,17 @@ def _core_points(curve: Curve) -> np.ndarray:
 
 def shown_runs(nc: NetworkCurves, curve: Curve, records: Sequence[RunRecord],
                table: VehicleTable | None) -> list[Shown]:
-    """The records with their vehicles' colours and, where the table has the vehicle, the
-    run driven again for its trajectory (:func:`reports.drawing.rerun`)."""
+    """The records with their vehicles' colours and, for a simulated run whose vehicle the
+    table has, the run driven again for its trajectory (:func:`reports.drawing.rerun`)."""
     colours = vehicle_colours(table.names if table is not None else
                               [r.vehicle for r in records])
     shown = [Shown(r, colours.get(r.vehicle, "#555555")) for r in records]
     if table is None:
         return shown
     by_name = {v.name: v for v in table.vehicles()}
-    todo = [s for s in shown if s.record.verdict != "error" and s.record.vehicle in by_name]
+    # the analytic method drives nothing: its runs are drawn by their envelopes alone
+    todo = [s for s in shown if s.record.verdict != "error" and s.record.vehicle in by_name
+            and s.record.method == "simulate"]
     offsets = {s.record.clearance_m for s in todo}
     for off in sorted(offsets):
         group = [s for s in todo if s.record.clearance_m == off]

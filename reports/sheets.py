@@ -186,7 +186,7 @@ def sheet_view(curve: Curve, s: Shown) -> tuple[tuple[float, float, float, float
 
 
 def _sheet(nc: NetworkCurves, s: Shown, units: str, title_rows: list[tuple[str, str]],
-           number: int, total: int) -> Figure:
+           number: int, total: int, vehicles: dict[str, Vehicle]) -> Figure:
     W, H = PAPER_MM
     with plt.rc_context(STYLE):
         fig = plt.figure(figsize=(W * MM, H * MM))
@@ -214,8 +214,9 @@ def _sheet(nc: NetworkCurves, s: Shown, units: str, title_rows: list[tuple[str, 
     fig.text((bx + bw / 2) / W, (top - badge_h / 2) / H, f"VERDICT: {r.verdict.upper()}",
              fontsize=11, fontweight="bold", color="white", ha="center", va="center")
     top = _block(fig, bx, top - badge_h, bw, "VERDICT", verdict_rows(s, units)) - 3.0
-    if s.driven is not None:
-        top = _block(fig, bx, top, bw, "VEHICLE", vehicle_rows(s.driven.vehicle, units),
+    vehicle = s.driven.vehicle if s.driven is not None else vehicles.get(r.vehicle)
+    if vehicle is not None:
+        top = _block(fig, bx, top, bw, "VEHICLE", vehicle_rows(vehicle, units),
                      max_lines=3) - 3.0
     legend = fig.legend(handles=handles, loc="upper left", fontsize=5.8, ncol=2,
                         bbox_to_anchor=(bx / W, top / H), frameon=True, handlelength=3.0,
@@ -246,13 +247,16 @@ def network_sheets(study: Study, nc: NetworkCurves, tables: Sequence[Path],
     by_curve = {c.curve_id: c for c in nc.curves}
     shown = [Shown(r, colours[r.vehicle]) for r in chosen]
     for cid in dict.fromkeys(r.curve_id for r in chosen):
-        group = [s for s in shown if s.record.curve_id == cid]
+        group = [s for s in shown if s.record.curve_id == cid and s.record.method == "simulate"]
+        if not group:  # analytic runs: drawn by their envelopes alone
+            continue
         runs = rerun(nc, by_curve[cid], [by_name[s.record.vehicle] for s in group],
                      study.clearance_m)
         for s, d in zip(group, runs, strict=True):
             s.driven = d
     head = title_rows(nc, tables)
-    return [_sheet(nc, s, units, head, i, len(shown)) for i, s in enumerate(shown, start=1)]
+    return [_sheet(nc, s, units, head, i, len(shown), by_name)
+            for i, s in enumerate(shown, start=1)]
 
 
 def write_sheets(study: Study, folder: Path, tables: Sequence[Path], units: str = "m",

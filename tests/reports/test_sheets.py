@@ -142,3 +142,11 @@ def test_clearance_report_writes_the_sheets_into_its_folder(tmp_path):
     assert len(pdf_pages(pdf.read_bytes())) == min(MAX_SHEETS, len(rows))
     # a second run replaces the folder (the sheets are part of the report's layout)
     assert main(args) == 0 and pdf.is_file()
+
+
+def test_analytic_studies_get_sheets_of_their_envelopes(tmp_path):
+    table = load_tables(bundled_table_paths(), ["P"])
+    study = run_study([NET], table, method="analytic", workers=1,
+                      selection=Selection(junctions=("T",)))
+    written = write_sheets(study, tmp_path, bundled_table_paths(), limit=2)
+    assert len(pdf_pages(written[0].read_bytes())) == 2
