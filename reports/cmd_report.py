@@ -51,7 +51,7 @@ LAYOUT = Layout(
     files=frozenset({"clearance.csv", "summary.json", "report.md", "report.html",
                      "swept.geojson", "swept.add.xml", "swept.dxf"}),
     folders={"figures": (".png", ".svg", ".jpg"), "fcd": (".xml",),
-             "exports": (".add.xml", ".dxf", ".geojson")},
+             "exports": (".add.xml", ".dxf", ".geojson"), "sheets": (".pdf",)},
     signature=("clearance.csv", ",".join(COLUMNS[:4])),
 )
 
@@ -66,7 +66,8 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
         "report",
         help="clearance report: every vehicle through every curve of every network",
         description="Every vehicle x every curve of every network: clearance.csv, "
-                    "summary.json, report.html, report.md with figures, and per network "
+                    "summary.json, report.html, report.md with figures, sheets/<network>.pdf "
+                    "(A3 swept-path sheets, worst runs first), and per network "
                     "under exports/: NET.add.xml (sumo-gui -n NET -a NET.add.xml), NET.dxf "
                     "(CAD) and NET.geojson (GIS). Without arguments: the bundled sample "
                     "networks and vehicle tables, output under reports/out/.",
@@ -155,12 +156,15 @@ def write_report(study: Study, folder: Path, tables: list[Path], units: str = "m
     """Write every output of ``study`` into ``folder`` (which must be new or empty);
     ``waived`` runs are shown as such (:mod:`reports.waivers`); ``origin`` (lat, lon)
     places the networks without a projection in the GeoJSON exports."""
+    from reports.sheets import write_sheets
+
     write_text_atomic(folder / "clearance.csv", clearance_csv(study, waived))
     write_text_atomic(folder / "summary.json", summary_json(study, tables, waived))
     exports = write_exports(study, folder, origin)
     sections = build_sections(study, folder, units, waived)
     write_text_atomic(folder / "report.md", markdown(study, sections, folder, units))
     write_text_atomic(folder / "report.html", html_document(study, sections, units, exports))
+    write_sheets(study, folder / "sheets", tables, units)
 
 
 def run(args: argparse.Namespace) -> int:
