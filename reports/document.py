@@ -330,8 +330,8 @@ a{color:inherit;text-decoration:none}
 #: with the curve names, so that each fits a screen and a printed page.
 MATRIX_VEHICLES = 12
 #: Figures in report.html: at most this wide (pixels) and quantised to this many colours.
-HTML_IMAGE_WIDTH_PX = 720
-HTML_IMAGE_COLOURS = 32
+HTML_IMAGE_WIDTH_PX = 640
+HTML_IMAGE_COLOURS = 24
 
 
 def compact_png(png: Path, width_px: int = HTML_IMAGE_WIDTH_PX,
