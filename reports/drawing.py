@@ -457,3 +457,37 @@ def legend_handles(shown: Sequence[Shown], units: str, trailer: bool) -> list:
         h.append(Line2D([], [], marker="X", ms=7, color="none", mfc=grey, mec="black",
                         label="cannot follow the path here (why beside)"))
     return h
+
+
+def run_geometry(curve: Curve, driven: DrivenRun, count: int = 7
+                 ) -> tuple[tuple[shapely.Polygon, ...], tuple[shapely.LineString, ...]]:
+    """A re-driven run's body outlines at ``count`` positions along its path (tractor, and
+    trailer where there is one) and the paths of the wheels that bound its sweep (outer
+    front, inner rear, inner trailer wheel) and of the trailer axle: what the CAD export
+    draws on a vehicle's body and wheel-path layers. ``((), ())`` for a run without a
+    result.
+
+    Examples
+    --------
+    >>> from types import SimpleNamespace as NS
+    >>> run_geometry(None, NS(result=None))
+    ((), ())
+    """
+    res = driven.result
+    if res is None:
+        return (), ()
+    run, swept = res.run, res.swept
+    v, tr = run.vehicle, run.trajectory
+    idx = _poses(run, count)
+    outlines = list(shapely.polygons(body_corners(
+        tr.x_m[idx], tr.y_m[idx], tr.theta_rad[idx], v.wheelbase_m + v.front_overhang_m,
+        v.rear_overhang_m, v.width_m)))
+    t = v.trailer
+    if t is not None and tr.theta_t_rad is not None and tr.xt_m is not None:
+        outlines += list(shapely.polygons(body_corners(
+            tr.xt_m[idx], tr.yt_m[idx], tr.theta_t_rad[idx], t.wheelbase_m + t.front_overhang_m,
+            t.rear_overhang_m, t.width_m)))
+    paths = [swept.wheel_tracks[n] for n in _wheel_names(curve, run) if n in swept.wheel_tracks]
+    if tr.xt_m is not None and len(tr) > 1:
+        paths.append(shapely.LineString(np.column_stack([tr.xt_m, tr.yt_m])))
+    return tuple(outlines), tuple(paths)
