@@ -108,16 +108,16 @@ def _heading_at(s: float, station: np.ndarray, heading: np.ndarray,
                 n_pts: int) -> float:  # pragma: no cover - compiled
     # the stations are uniform but for the last step: index by the first spacing
     if s <= 0.0:
-        return heading[0]
+        return float(heading[0])
     if s >= station[n_pts - 1]:
-        return heading[n_pts - 1]
+        return float(heading[n_pts - 1])
     j = min(int(s / (station[1] - station[0])), n_pts - 2)
     while j > 0 and station[j] > s:
         j -= 1
     while j < n_pts - 2 and station[j + 1] < s:
         j += 1
     f = (s - station[j]) / (station[j + 1] - station[j])
-    return heading[j] + f * (heading[j + 1] - heading[j])
+    return float(heading[j] + f * (heading[j + 1] - heading[j]))
 
 
 @njit(cache=True)
@@ -264,7 +264,8 @@ def run_loop(
     prof_at: np.ndarray, prof_speed: np.ndarray, by_station: bool,
     dt: float, gain: float, soft_speed: float, max_command: float, abort_m: float,
     window: int, max_steps: int, substeps: int,
-):  # pragma: no cover - compiled
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray,
+           np.ndarray]:  # pragma: no cover - compiled
     """Advance every run until it reaches its path's end, aborts, jackknifes or runs out.
 
     The state arrays (``x, y, th, phi, psi``) are the runs' initial states, advanced in
