@@ -49,7 +49,7 @@ class Stations(NamedTuple):
 
     start_m: float
     stop_m: float
-    count: int
+    count: int  # type: ignore[assignment]  # the field shadows tuple.count, on purpose
     step_m: float
 
     def array(self) -> np.ndarray:

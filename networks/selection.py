@@ -170,9 +170,9 @@ def in_bbox(curve: Curve, bbox: BBox) -> bool:
     inside = (xy[:, 0] >= xmin) & (xy[:, 0] <= xmax) & (xy[:, 1] >= ymin) & (xy[:, 1] <= ymax)
     if inside.any():
         return True
-    from shapely import box, linestrings
+    from shapely import LineString, box
 
-    return bool(linestrings(xy).intersects(box(xmin, ymin, xmax, ymax)))
+    return bool(LineString(xy).intersects(box(xmin, ymin, xmax, ymax)))
 
 
 def select(curves: Iterable[Curve], selection: Selection) -> list[Curve]:
@@ -200,12 +200,12 @@ def load_selected(
     ever built; ``build_ahead`` applies only to an extraction that keeps every curve).
     """
     selection = selection or Selection()
-    kwargs = {"kinds": selection.kinds} if selection.kinds else {}
+    kinds = selection.effective_kinds()
     if not selection.narrows:
-        return extract_curves(net, options=options, build_ahead=build_ahead, **kwargs)
+        return extract_curves(net, kinds, options=options, build_ahead=build_ahead)
     from networks.area_book import AreaBook
 
-    kept = select(extract_curves(net, options=options, areas=False, **kwargs), selection)
+    kept = select(extract_curves(net, kinds, options=options, areas=False), selection)
     if kept:
         AreaBook(net, kept)
     return kept

@@ -109,7 +109,8 @@ def print_summary(net_path: Path, rows: Sequence[dict[str, str]], limit: int) ->
     if not rows:
         return
     shown = sorted(rows, key=lambda r: (float(r["min_radius"]), r["curve_id"]))[: max(limit, 0)]
-    cols = ("curve_id", "kind", "min_radius", "turn_angle_deg", "length", "lane_width")
+    cols: tuple[str, ...] = ("curve_id", "kind", "min_radius", "turn_angle_deg", "length",
+                             "lane_width")
     cols += ("max_grade_pct",)
     heads = ("curve", "kind", "R min [m]", "turn [deg]", "length [m]", "width [m]", "grade [%]")
     print("\n".join(format_table(shown, cols, heads, 2)))

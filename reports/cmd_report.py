@@ -132,7 +132,7 @@ def run(args: argparse.Namespace) -> int:
           f"{sum(len(n.curves) for n in study.networks)} curves, method {args.method}) "
           f"in {time.perf_counter() - t0:.1f} s")
     print("  " + ", ".join(f"{v}: {int(counts.get(v, 0))}"
-                           for v in sorted(VERDICT_ORDER, key=VERDICT_ORDER.get)))
+                           for v in sorted(VERDICT_ORDER, key=VERDICT_ORDER.__getitem__)))
     if waived is not None:
         print(f"  waived: {len(waived)} runs")
         for w in waived.unused:

@@ -70,7 +70,7 @@ def build_sections(study: Study, folder: Path, units: str = "m",
         plan = plot_network(nc, f, figs / file_name([nc.name, "plan"], room=4))[0]
         worst = worst_by_curve(f)
         counts = {v: int((f.verdict == v).sum()) for v in sorted(VERDICT_ORDER,
-                                                                   key=VERDICT_ORDER.get)
+                                                                   key=VERDICT_ORDER.__getitem__)
                   if v != "error" or (f.verdict == "error").any()}
         cells = f.assign(cell=f.verdict + "|" + (f.margin_m / scale).round(2).astype(str))
         if waived is not None:

@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import math
 from pathlib import Path
+from typing import TYPE_CHECKING, cast
 
 import numpy as np
 import pandas as pd
@@ -19,6 +20,10 @@ from networks.curves import Curve
 from networks.plot import _fill, plot_plan
 from reports.plotting import new_figure, save
 from reports.study import VERDICT_ORDER, NetworkCurves, RunRecord
+
+if TYPE_CHECKING:
+    from matplotlib.artist import Artist
+    from numpy.typing import NDArray
 
 COLOURS = {"clear": "#1e8449", "encroaches": "#e67e22", "fails": "#c0392b",
            "cannot-turn": "#7d3c98", "error": "#000000"}
@@ -51,7 +56,9 @@ def sites(curves: list[Curve], gap_m: float = 80.0, max_sites: int = 4) -> list[
     """
     if not curves:
         return []
-    centres = shapely.points(np.array([_core_points(c).mean(axis=0) for c in curves]))
+    # an (N, 2) array of coordinates gives an array of N points
+    centres = cast("NDArray[np.object_]",
+                   shapely.points(np.array([_core_points(c).mean(axis=0) for c in curves])))
     pairs = shapely.STRtree(centres).query(centres, predicate="dwithin", distance=gap_m)
     parent = list(range(len(curves)))
 
@@ -112,7 +119,8 @@ def plot_network(nc: NetworkCurves, frame: pd.DataFrame, stem: Path, marked: int
                                       ec=COLOURS[verdict[c.curve_id]], lw=1.2))
     present = set(worst.verdict)
     handles = [Line2D([], [], color=COLOURS[v], lw=2.2, label=v)
-               for v in sorted(COLOURS, key=VERDICT_ORDER.get) if v != "error" or v in present]
+               for v in sorted(COLOURS, key=VERDICT_ORDER.__getitem__)
+               if v != "error" or v in present]
     fig.legend(handles=handles, loc="lower center", ncol=5, fontsize=8, frameon=False,
                title="worst verdict over the vehicles (numbers: the worst curves, in order)",
                title_fontsize=8, bbox_to_anchor=(0.5, -0.02))
@@ -148,8 +156,9 @@ def plot_curve(nc: NetworkCurves, curve: Curve, records: list[RunRecord], stem: 
         for poly in getattr(curve.own_lanes, "geoms", [curve.own_lanes]):
             xy = np.asarray(poly.exterior.coords)
             ax.plot(xy[:, 0], xy[:, 1], color="#2471a3", lw=1.0, ls="--", zorder=5)
-    handles = [Line2D([], [], color="black", lw=1.6, label="edge of pavement (curb)"),
-               Line2D([], [], color="#2471a3", lw=1.0, ls="--", label="own lanes")]
+    handles: list[Artist] = [
+        Line2D([], [], color="black", lw=1.6, label="edge of pavement (curb)"),
+        Line2D([], [], color="#2471a3", lw=1.0, ls="--", label="own lanes")]
     palette = ["#c0392b", "#7d3c98", "#e67e22", "#1e8449", "#2e86c1", "#7f8c8d"]
     for r, colour in zip(records, palette, strict=False):
         if r.envelope is None:

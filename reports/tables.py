@@ -16,7 +16,7 @@ import pandas as pd
 from reports.study import VERDICT_ORDER, Study
 from reports.waivers import Waived
 
-VERDICTS = tuple(sorted(VERDICT_ORDER, key=VERDICT_ORDER.get))  # worst first
+VERDICTS = tuple(sorted(VERDICT_ORDER, key=VERDICT_ORDER.__getitem__))  # worst first
 
 
 def clearance_csv(study: Study, waived: Waived | None = None) -> str:

@@ -135,8 +135,8 @@ def four_leg(
         # the approach lane's end and the exit lane's start, on the polygon
         start = _lane_point(frm, d[frm], lane0, inbound=True)
         end = _lane_point(to, d[to], lane0, inbound=False)
-        shape = [start, *pts, end]
-        shape = [(x + cx, y + cy) for x, y in shape]
+        relative = [start, *pts, end]
+        shape = [(x + cx, y + cy) for x, y in relative]
         cons.append(
             f'<connection from="{jid}{frm}_in" to="{jid}{to}_out" fromLane="0" toLane="0" '
             f'shape="{fmt(shape)}"/>'
@@ -335,7 +335,7 @@ def ring(design: RingDesign) -> tuple[list[str], list[str], list[str]]:
         ring_out = f"{design.rid}ring{k}"
         # entry: along the arm's lane, a right-hand arc onto the ring, round to the cut
         e_centre = (x_in, off + design.entry_radius_m)
-        entry = [(x_arm, off), (x_in, off)]
+        entry: list[Point] = [(x_arm, off), (x_in, off)]
         entry += arc(e_centre, design.entry_radius_m, -90, -90 - (90 - phi_in))[1:]
         entry += arc((0, 0), rc, phi_in, beta)[1:]
         # exit: round the ring from the cut, a right-hand arc onto the arm's lane
