@@ -32,6 +32,10 @@ from numpy.typing import ArrayLike, NDArray
 
 from vehicles.errors import InputError
 
+__all__ = ["CRAWL_SPEED_M_S", "SpeedProfile", "arc_step", "as_speed_profile",
+           "curvature_from_steer", "euler_step", "integrate", "limit_steering", "ramp_arc",
+           "ramp_step"]
+
 CRAWL_SPEED_M_S = 2.0
 """Default speed of the steering point for design checks (walking pace, no dynamics)."""
 

@@ -25,6 +25,9 @@ from numpy.typing import ArrayLike, NDArray
 from analysis.kernels import project_near
 from vehicles.errors import InputError
 
+__all__ = ["DEFAULT_SPACING_M", "Path", "SMOOTH_SIGMA_M", "catmull_rom", "fit_circle",
+           "prepare_path", "project_window", "smooth_polyline"]
+
 FloatArray = NDArray[np.float64]
 IntArray = NDArray[np.intp]
 

@@ -89,6 +89,9 @@ from analysis.trailer import steady_articulation_rad, trailer_axle_point
 from vehicles.errors import InputError
 from vehicles.vehicle import Vehicle
 
+__all__ = ["MAX_COMMAND_RAD", "SOFT_SPEED_M_S", "TrackingRun", "TrackingSettings", "Trajectory",
+           "check_vehicle", "simulate", "simulate_batch", "simulate_grid", "start_pose"]
+
 FloatArray = NDArray[np.float64]
 
 SOFT_SPEED_M_S = 0.1

@@ -21,6 +21,9 @@ from numba import njit
 
 from analysis.kernels import project_near
 
+__all__ = ["APPROACH_SHARE", "RECORD", "approach_angle", "articulation_one", "limit_one",
+           "predictive_stanley", "ramp_step_one", "run_loop", "stanley_residual"]
+
 #: Row of each recorded quantity in the loop's ``(9, steps, runs)`` record.
 RECORD = ("t_s", "s_m", "x_m", "y_m", "theta_rad", "phi_rad", "error_m", "speed_m_s",
           "psi_rad")

@@ -50,6 +50,9 @@ from numpy.typing import ArrayLike, NDArray
 
 from vehicles.errors import InputError
 
+__all__ = ["advance_articulation", "hitch_point", "steady_articulation_rad",
+           "steady_trailer_radius_m", "trailer_axle_point", "trailer_heading_rate"]
+
 FloatArray = NDArray[np.float64]
 
 

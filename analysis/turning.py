@@ -17,6 +17,10 @@ from numpy.typing import ArrayLike, NDArray
 from analysis.control_law import safe_pathway, theta_of_rho
 from vehicles.table import VehicleTable, steering_from_row
 
+__all__ = ["INPUT_COLUMNS", "ackermann_angle_at_lock", "articulation_limited_rho",
+           "centre_line_radius", "curb_to_curb", "full_lock_metrics", "inside_radius",
+           "steering_sweep", "trailer_steady_state", "turning_metrics", "wall_to_wall"]
+
 FloatArray = NDArray[np.float64]
 
 #: Columns :func:`full_lock_metrics` needs in its input frame.

@@ -52,6 +52,10 @@ from networks.areas import Job, run_job
 if TYPE_CHECKING:
     from networks.curves import Curve
 
+__all__ = ["AreaWorker", "MAX_INFLIGHT", "PROCESS_SHARE", "QUEUED_PARTS", "SHARE_GAIN",
+           "SHARE_HORIZON", "SHARE_RANGE", "STOP_TIMEOUT_S", "build_in_two", "give_up", "main",
+           "next_share", "send_ahead", "serve", "share", "stop", "use_process", "worker"]
+
 #: Each message: these four bytes, its length in eight, then a pickle. A message that does
 #: not start with them (something else wrote to the pipe) ends the exchange.
 _MAGIC = b"CAW1"

@@ -116,6 +116,10 @@ from networks.runs import (  # noqa: F401 - re-exported
 from vehicles.errors import InputError
 from vehicles.vehicle import Vehicle
 
+__all__ = ["DriveOptions", "DriveStats", "DrivenRun", "NO_DECISIONS_S", "REPLAY_COMMAND",
+           "curve_areas", "drive", "edge_of_lane", "front_bumper", "lane_boundaries_m",
+           "replay_config", "route_edges", "select_curves", "shape_class", "vtype_parameters"]
+
 log = logging.getLogger(__name__)
 
 NO_DECISIONS_S = 86400.0

@@ -13,6 +13,8 @@ import numpy as np
 
 from networks.reader import Network
 
+__all__ = ["LaneTable", "REPEAT_M"]
+
 #: Points closer than this (metres, in the plane) to the one before are dropped, as in
 #: :meth:`networks.reader.Network.lane_line`.
 REPEAT_M = 1e-6

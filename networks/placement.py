@@ -21,6 +21,10 @@ from networks.curves import Curve
 from vehicles.errors import InputError
 from vehicles.vehicle import Vehicle
 
+__all__ = ["REPLAY_COMMAND", "edge_of_lane", "first_on", "front_bumper", "lane_boundaries_m",
+           "lane_index", "replay_config", "route_edges", "shape_class", "trailer_front",
+           "vtype_parameters"]
+
 REPLAY_COMMAND = 'python "$SUMO_HOME/tools/fcdReplay.py" -k {config} -f {fcd}'
 """How to replay an FCD file in sumo-gui (format with the config and FCD paths)."""
 

@@ -24,6 +24,8 @@ import numpy as np
 from networks.profile_kernel import chord_frame, station_profiles
 from networks.reader import gc_paused
 
+__all__ = ["CHUNK_LINES", "MAX_WINDOW_M", "MIN_CHORD_M", "Profiles", "Stations", "profiles"]
+
 #: Chords shorter than this (m) are extended before headings are taken.
 MIN_CHORD_M = 1.5
 

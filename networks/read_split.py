@@ -45,6 +45,9 @@ from networks.reader import (
 )
 from vehicles.errors import InputError
 
+__all__ = ["CHILD_TIMEOUT_S", "ConnectionRow", "MIN_SPLIT_BYTES", "SPLIT_FRACTION", "dump", "merge",
+           "read_in_two", "split_offset"]
+
 #: Plain files smaller than this are read in one pass (a second process costs ~0.2 s).
 MIN_SPLIT_BYTES = 24 * 1024 * 1024
 

@@ -49,6 +49,11 @@ if TYPE_CHECKING:  # names of the lxml stubs only, not of lxml itself
     from lxml.etree._parser import CustomTargetParser
     from lxml.etree._saxparser import ParserTarget
 
+__all__ = ["Connection", "DEFAULT_LANE_WIDTH_M", "EMPTY_SHAPE", "Edge", "Junction", "Lane",
+           "Location", "MAX_LANE_WIDTH_M", "Network", "ROAD_VCLASSES", "Roundabout",
+           "SUMO_VCLASSES", "check_references", "cores", "gc_paused", "make_parser", "read_network",
+           "resolve_allowed"]
+
 log = logging.getLogger(__name__)
 
 #: SUMO's lane width when a lane has none (``SUMO_const_laneWidth``).

@@ -35,6 +35,9 @@ from networks.geometry import cut_polyline
 from networks.reader import Network
 from vehicles.errors import InputError
 
+__all__ = ["BBox", "Selection", "check_junctions", "feature_line", "in_bbox", "load_selected",
+           "parse_bbox", "select"]
+
 BBox = tuple[float, float, float, float]
 
 

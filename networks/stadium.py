@@ -18,6 +18,8 @@ import math
 import numpy as np
 import shapely
 
+__all__ = ["MIN_LENGTH_M", "segment_buffers", "stadium_rings"]
+
 #: Segments shorter than this (metres) are not built here (GEOS merges nearly coincident
 #: offset points; a point buffers to a disc).
 MIN_LENGTH_M = 1e-3

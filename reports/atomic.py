@@ -8,6 +8,8 @@ from pathlib import Path
 
 from vehicles.errors import InputError
 
+__all__ = ["current_umask", "write_bytes_atomic", "write_text_atomic"]
+
 
 def current_umask() -> int:
     """The process's umask (read by setting it and putting it back).

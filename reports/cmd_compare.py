@@ -12,6 +12,8 @@ from reports.atomic import write_text_atomic
 from reports.options import add_table_option, add_units_option, add_vehicle_option
 from vehicles.table import load_tables
 
+__all__ = ["add_parser", "run"]
+
 
 def add_parser(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser(

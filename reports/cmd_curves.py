@@ -16,6 +16,8 @@ from reports.atomic import write_text_atomic
 from reports.text_table import format_table
 from vehicles.errors import InputError
 
+__all__ = ["COLUMNS", "add_parser", "curve_row", "print_summary", "run", "write_csv_atomic"]
+
 #: CSV columns, in order.
 COLUMNS = (
     "curve_id",

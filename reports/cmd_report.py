@@ -33,6 +33,9 @@ from reports.tables import clearance_csv, summary_json
 from reports.waivers import Waived, read_waivers, study_waivers
 from vehicles.table import bundled_table_paths, load_tables
 
+__all__ = ["DEFAULT_OUTPUT", "LAYOUT", "add_parser", "envelope_records", "run", "sample_networks",
+           "write_report"]
+
 log = logging.getLogger(__name__)
 
 #: The default study's output folder, relative to where the command runs (the repository's

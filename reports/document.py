@@ -23,6 +23,9 @@ from reports.study import VERDICT_ORDER, Study
 from reports.units import length_scale
 from reports.waivers import Waived
 
+__all__ = ["CSS", "MAX_CURVE_FIGURES", "MAX_ENVELOPES", "SYMBOL", "Section", "TIGHT_M",
+           "build_sections", "html_document", "markdown", "pick_envelopes"]
+
 #: A curve is *tight* when its smallest margin is below this (m) though clear.
 TIGHT_M = 0.25
 #: At most this many curve figures per network (the worst first): every failing or tight

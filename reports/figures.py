@@ -25,6 +25,8 @@ if TYPE_CHECKING:
     from matplotlib.artist import Artist
     from numpy.typing import NDArray
 
+__all__ = ["COLOURS", "plot_curve", "plot_network", "sites", "worst_by_curve"]
+
 COLOURS = {"clear": "#1e8449", "encroaches": "#e67e22", "fails": "#c0392b",
            "cannot-turn": "#7d3c98", "error": "#000000"}
 

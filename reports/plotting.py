@@ -19,6 +19,8 @@ from reports.atomic import write_bytes_atomic  # noqa: E402
 if TYPE_CHECKING:
     from matplotlib.typing import RcKeyType
 
+__all__ = ["STYLE", "add_north_arrow", "add_scale_bar", "new_figure", "nice_length", "save"]
+
 STYLE: dict[RcKeyType, Any] = {
     "font.size": 9,
     "axes.titlesize": 10,

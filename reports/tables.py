@@ -16,6 +16,9 @@ import pandas as pd
 from reports.study import VERDICT_ORDER, Study
 from reports.waivers import Waived
 
+__all__ = ["VERDICTS", "clearance_csv", "counts", "sha256_of", "summary", "summary_json",
+           "waived_column"]
+
 VERDICTS = tuple(sorted(VERDICT_ORDER, key=VERDICT_ORDER.__getitem__))  # worst first
 
 

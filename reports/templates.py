@@ -23,6 +23,9 @@ from reports.units import length_scale
 from vehicles.table import VehicleTable
 from vehicles.vehicle import Vehicle
 
+__all__ = ["RADIUS_MARGIN", "Template", "build_templates", "plot_templates",
+           "template_envelope_area", "template_path"]
+
 #: The arc is this much wider than the minimum CTR, so that the steering rate limit lets the
 #: steered axle stay on it while the wheels turn to lock.
 RADIUS_MARGIN = 1.03

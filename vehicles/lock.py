@@ -16,6 +16,9 @@ from collections.abc import Callable
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+__all__ = ["rho_from_bicycle", "rho_from_ctr", "rho_from_curb_to_curb", "rho_from_wall_to_wall",
+           "solve_increasing"]
+
 FloatArray = NDArray[np.float64]
 
 

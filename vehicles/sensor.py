@@ -16,6 +16,8 @@ from numpy.typing import ArrayLike, NDArray
 
 from vehicles.errors import InputError
 
+__all__ = ["SteeringSensor"]
+
 FloatArray = NDArray[np.float64]
 
 

@@ -31,6 +31,10 @@ from numpy.typing import ArrayLike, NDArray
 
 from vehicles.errors import InputError
 
+__all__ = ["Breakpoints", "RackPinion", "Schedule", "Steering", "WheelAngles", "ackermann_angles",
+           "angle_from_curvature", "bicycle_from_inner", "curvature_from_angle",
+           "equivalent_bicycle", "evaluate", "ideal_outer_from_inner"]
+
 FloatArray = NDArray[np.float64]
 
 

@@ -46,6 +46,10 @@ from vehicles.schema import (
 from vehicles.steering import Breakpoints, RackPinion, Schedule, Steering
 from vehicles.vehicle import Trailer, Vehicle
 
+__all__ = ["DEFAULT_MAX_TABLE_BYTES", "LOCK_TOLERANCE", "MAX_TABLE_MB_ENV", "VehicleTable",
+           "bundled_table", "bundled_table_paths", "load_tables", "max_table_bytes",
+           "read_table_text", "steering_from_row", "unknown_name_message", "vehicle_from_row"]
+
 log = logging.getLogger(__name__)
 
 #: Relative disagreement allowed between two given lock columns (published values are

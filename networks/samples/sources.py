@@ -17,6 +17,11 @@ from pathlib import Path
 
 import numpy as np
 
+__all__ = ["Corners", "HELIX_LANE_M", "HELIX_RADIUS_M", "HELIX_RISE_PER_TURN_M", "HELIX_TURNS",
+           "INTERSECTION_CORNERS", "Point", "ROUNDABOUTS", "RingDesign", "SAMPLES_DIR",
+           "TEE_TIGHT_CORNER_M", "TEE_WIDE_CORNER_M", "WRITERS", "arc", "fmt", "four_leg", "main",
+           "ring", "tee", "write_intersection", "write_parking_ramp", "write_roundabout"]
+
 SAMPLES_DIR = Path(__file__).resolve().parent
 
 Point = tuple[float, ...]

@@ -23,6 +23,8 @@ from networks.reader import read_network
 from networks.samples.build import SAMPLES, SAMPLES_DIR
 from vehicles.table import bundled_table, load_tables
 
+__all__ = ["SHORT", "VEHICLES", "curves_of", "main", "table"]
+
 VEHICLES = ("P", "2008 Chrysler Town & Country", "SU-30", "CITY-BUS", "WB-62")
 SHORT = {"2008 Chrysler Town & Country": "van"}
 
