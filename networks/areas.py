@@ -1,8 +1,10 @@
 """The three nested areas that decide a verdict (DESIGN.md §6), as shapely geometry.
 
 ``own_lanes``
-    The curve's centre line buffered by half its lane width (flat ends): the lanes it
-    drives on, trimmed to the part the centre line covers.
+    The curve's designed line (its centre line smoothed as the vehicle follows it,
+    :func:`designed_line`) buffered by half its lane width (flat ends): the lanes it
+    drives on as designed, not SUMO's chords of them, trimmed to the part the centre line
+    covers.
 
 Lane polygons in ``roadway`` and ``paved`` have round ends, so that lanes meeting at an
 angle leave no wedge uncovered on the outside of the joint; lanes and junction polygons
@@ -19,7 +21,8 @@ holes under :data:`MIN_HOLE_M2` (wedges between lane pieces) are filled.
     The roadway plus, for each junction the curve passes through, the junction polygon,
     all its internal lanes and every lane of the edges that meet there (sidewalks and
     the opposite direction included). A bend's neighbourhood is the two junctions of its
-    edge.
+    edge. It always covers the curve's roadway and own lanes (:func:`covering_paved`):
+    every lane the run drives on, lead-in and run-out included.
 
 Areas are built for a batch of curves at a time (:func:`build_areas`; all curves at once
 with :func:`attach_areas`, on demand per batch with :class:`networks.area_book.AreaBook`):
@@ -56,9 +59,11 @@ from typing import TYPE_CHECKING, NamedTuple
 import numpy as np
 import shapely
 
+from analysis.polyline import DEFAULT_SPACING_M, prepare_path
 from networks.area_groups import AreaIndex, BatchPlan
 from networks.reader import Network, cores, gc_paused
 from networks.stadium import MIN_LENGTH_M, segment_buffers
+from vehicles.errors import InputError
 
 #: The polygons ``roadway`` and ``paved`` are made of are grown by this much (metres), so
 #: that they overlap where they would touch: a union of touching polygons can keep hairline
@@ -141,10 +146,47 @@ def _own_arrays(curves: Sequence[Curve]) -> tuple[np.ndarray, np.ndarray, np.nda
     """The curves' centre lines (x, y; curve after curve), point counts and half widths."""
     if not curves:
         return np.empty((0, 2)), np.empty(0, dtype=np.intp), np.empty(0)
-    counts = np.fromiter((len(c.centerline) for c in curves), np.intp, len(curves))
-    points = np.vstack([c.centerline for c in curves])[:, :2]
+    lines = [designed_line(c.centerline, c.curve_id) for c in curves]
+    counts = np.fromiter((len(x) for x in lines), np.intp, len(curves))
+    points = np.vstack(lines)
     half = np.fromiter((c.lane_width_m for c in curves), float, len(curves)) / 2.0
     return points, counts, half
+
+
+#: The designed line is simplified to within this (m) before it is buffered.
+DESIGNED_TOLERANCE_M = 0.005
+
+
+def designed_line(centerline: np.ndarray, name: str = "centre line") -> np.ndarray:
+    """The designed lane's centre line: SUMO's vertices smoothed as the vehicle follows them.
+
+    The own lanes are this line buffered by half the lane width, so that they are built
+    from the same smoothed line the vehicle's steering point follows
+    (:func:`analysis.polyline.prepare_path` with ``smooth=True``): SUMO's chords and the
+    kinks where its lanes meet are drawing artefacts, not the design. Simplified to
+    within :data:`DESIGNED_TOLERANCE_M`. A line that cannot be smoothed (it turns back on
+    itself) is returned as it is, ``(N, 2)``.
+
+    Examples
+    --------
+    A right angle drawn as one corner is rounded off (the line passes inside the corner);
+    a straight line stays straight:
+
+    >>> line = designed_line(np.array([[0.0, 0.0, 0.0], [20.0, 0.0, 0.0], [20.0, 20.0, 0.0]]))
+    >>> corner = shapely.Point(20.0, 0.0)
+    >>> bool(shapely.LineString(line).distance(corner) > 0.05)
+    True
+    >>> straight = designed_line(np.array([[0.0, 0.0], [10.0, 0.0]]))
+    >>> np.round(straight, 9).tolist() == [[0, 0], [10, 0]]
+    True
+    """
+    pts = np.asarray(centerline, dtype=float)[:, :2]
+    try:
+        xy = prepare_path(pts, DEFAULT_SPACING_M, name=name, smooth=True).xy
+    except InputError:
+        return pts
+    simple = shapely.simplify(shapely.LineString(xy), DESIGNED_TOLERANCE_M)
+    return shapely.get_coordinates(simple)
 
 
 def _own_polygons(points: np.ndarray, counts: np.ndarray, half: np.ndarray) -> np.ndarray:
@@ -374,21 +416,68 @@ def build_areas(
         empty = np.empty(0, dtype=object)
         return empty, empty, empty
     with gc_paused():
-        large = len(curves) >= HALVES_MIN and _may_split()
-        if large:
-            from networks.area_worker import build_in_two
+        return covering_paved(*_build_areas(index, curves, ahead))
 
-            built = build_in_two(index, curves, ahead)
-            if built is not None:
-                return built
-        cut = _halfway(curves) if large else 0
-        if not cut:
-            return _build(index, curves)
-        other = _pool().submit(_build, index, curves[cut:])
-        first = build_alone(index, curves[:cut])
-        second = other.result()
-        own, roadway, paved = (np.concatenate(p) for p in zip(first, second, strict=True))
-        return own, roadway, paved
+
+def _build_areas(
+    index: AreaIndex, curves: Sequence[Curve], ahead: Sequence[Sequence[Curve]] = ()
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    large = len(curves) >= HALVES_MIN and _may_split()
+    if large:
+        from networks.area_worker import build_in_two
+
+        built = build_in_two(index, curves, ahead)
+        if built is not None:
+            return built
+    cut = _halfway(curves) if large else 0
+    if not cut:
+        return _build(index, curves)
+    other = _pool().submit(_build, index, curves[cut:])
+    first = build_alone(index, curves[:cut])
+    second = other.result()
+    own, roadway, paved = (np.concatenate(p) for p in zip(first, second, strict=True))
+    return own, roadway, paved
+
+
+def covering_paved(
+    own: np.ndarray, roadway: np.ndarray, paved: np.ndarray
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The areas with each paved area grown to cover its curve's roadway and own lanes.
+
+    The paved area must hold every lane the run drives on, lead-in and run-out included
+    (DESIGN.md §6): a junction's paved area holds its polygon and the lanes of its edges,
+    and a run's approach and exit reach beyond them. Each distinct (roadway, paved) pair is
+    unioned once (the curves of one movement share it); a curve whose own lanes (the
+    designed lane, :func:`designed_line`) still stick out gets a paved area of its own.
+
+    Examples
+    --------
+    >>> own = np.array([shapely.box(0, 0, 10, 1)], dtype=object)
+    >>> road = np.array([shapely.box(0, 0, 5, 1)], dtype=object)
+    >>> paved = np.array([shapely.box(0, 0, 4, 4)], dtype=object)
+    >>> _, _, p = covering_paved(own, road, paved)
+    >>> float(p[0].area), bool(p[0].covers(own[0]))
+    (22.0, True)
+    """
+    out = np.empty(len(paved), dtype=object)
+    pairs: dict[tuple[int, int], list[int]] = {}
+    for i, (r, p) in enumerate(zip(roadway, paved, strict=True)):
+        pairs.setdefault((id(r), id(p)), []).append(i)
+    firsts = [ix[0] for ix in pairs.values()]
+    grown = shapely.union(paved[firsts], np.where(shapely.is_missing(roadway[firsts]),
+                                                  paved[firsts], roadway[firsts]))
+    for g, ix in zip(grown.tolist(), pairs.values(), strict=True):
+        for i in ix:
+            out[i] = g
+    shapely.prepare(out)
+    loose = np.flatnonzero(~shapely.covers(out, own))
+    if len(loose):
+        out[loose] = _fill_small_holes_each(shapely.union(out[loose], own[loose]))
+    return own, roadway, out
+
+
+def _fill_small_holes_each(geoms: np.ndarray) -> np.ndarray:
+    return np.array([_fill_small_holes(g) for g in geoms.tolist()], dtype=object)
 
 
 #: Batches of at least this many curves are built in two halves at once (:func:`build_areas`).

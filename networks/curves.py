@@ -10,6 +10,10 @@ Kinds and how they are found:
     One per connection through a junction that has internal lanes (approach lane →
     internal lanes → exit lane), for lanes that admit passenger cars, buses or trucks.
     Connections at the nodes of a ``<roundabout>`` are left to the ``roundabout`` curves.
+``uturn``
+    The same for netconvert's automatic turnarounds (connection ``dir="t"``, at dead
+    ends and on divided roads): a kind of their own, left out unless asked for
+    (:data:`DEFAULT_KINDS`).
     A network built without internal lanes (``--no-internal-links``) has no junction
     geometry to check: no turns are extracted and a warning says so.
 ``roundabout``
@@ -41,12 +45,13 @@ from networks.geometry import (
     arc_length,
     clean_polyline,
     curvature_profile,
+    cut_polyline,
     grades_pct,
     radius_from_curvature,
     unwrap,
 )
 from networks.lane_table import LaneTable
-from networks.paths import PathPlan, junction_of_internal, plan_path, realise, via_lanes
+from networks.paths import Path, PathPlan, junction_of_internal, plan_path, realise, via_lanes
 from networks.profiles import Stations, profiles
 from networks.reader import ROAD_VCLASSES, Network, gc_paused
 from vehicles.errors import InputError
@@ -56,7 +61,11 @@ if TYPE_CHECKING:
 
 log = logging.getLogger(__name__)
 
-KINDS = ("turn", "roundabout", "ramp", "bend")
+KINDS = ("turn", "uturn", "roundabout", "ramp", "bend")
+"""Every kind of curve, in the order curves are sorted."""
+
+DEFAULT_KINDS = ("turn", "roundabout", "ramp", "bend")
+"""The kinds a study checks unless asked otherwise: netconvert's automatic U-turns left out."""
 
 
 @dataclass(eq=False, slots=True)
@@ -66,10 +75,11 @@ class Curve:
     Attributes
     ----------
     curve_id
-        Stable id, e.g. ``turn:J0:E1_0->E3_0``, ``roundabout:R2:in_0->out_0``,
+        Stable id, e.g. ``turn:J0:E1_0->E3_0``, ``uturn:J0:E1_0->-E1_0``,
+        ``roundabout:R2:in_0->out_0``,
         ``ramp:H0_0->H3_0``, ``bend:E7_1:0``.
     kind
-        ``turn``, ``roundabout``, ``ramp`` or ``bend``.
+        ``turn``, ``uturn``, ``roundabout``, ``ramp`` or ``bend``.
     junction
         The junction of the feature (a turn's junction, the ring node entered, the junction
         a ramp starts from, a bend's edge's start junction).
@@ -220,7 +230,7 @@ def _measure(
 ) -> list[Curve]:
     if not items:
         return []
-    paths = realise(net, [it[3] for it in items], table)
+    paths = _steady_lead_ins(realise(net, [it[3] for it in items], table), opts)
     prof = profiles(
         [p.centerline for p in paths],
         [p.core_start_m for p in paths],
@@ -246,6 +256,47 @@ def _measure(
     return curves
 
 
+#: A lead-in starts after the last stretch tighter than this (m) more than
+#: :data:`LEAD_KEEP_M` before the feature: a corner there is a neighbouring curve, and the
+#: vehicle should enter this one in a steady state, not still recovering from that one.
+LEAD_MIN_RADIUS_M = 15.0
+
+#: The lead-in kept next to the feature whatever its radius (m).
+LEAD_KEEP_M = 5.0
+
+
+def _steady_lead_ins(paths: list[Path], opts: CurveOptions) -> list[Path]:
+    """The paths with each lead-in cut to start after its last tight stretch.
+
+    The lead-in is for bringing the vehicle to the feature in a steady state; extended
+    back straight on only (:mod:`networks.paths`), it can still hold a tight corner
+    inside a lane (an OSM service road's). The line then starts one fitting window after
+    the last station, more than :data:`LEAD_KEEP_M` and a fitting window before the
+    feature, whose radius is under :data:`LEAD_MIN_RADIUS_M`, and never closer to the feature than
+    :data:`LEAD_KEEP_M`. The same for every vehicle (paths are cut in place).
+    """
+    # stations whose fitting window (a fixed one) stays clear of the feature's own bend
+    reach = LEAD_KEEP_M + opts.window_m
+    lead = [p for p in paths if p.core_start_m > reach + opts.window_m]
+    if not lead:
+        return paths
+    prof = profiles([p.centerline for p in lead], [0.0] * len(lead),
+                    [p.core_start_m - reach for p in lead], opts.step_m, opts.window_m,
+                    margin_m=0.0, adaptive=False)
+    for n, p in enumerate(lead):
+        s, k = prof.stations[n].array(), prof.curvature_per_m[n]
+        tight = np.flatnonzero(radius_from_curvature(k) < LEAD_MIN_RADIUS_M)
+        if not len(tight):
+            continue
+        cut = min(float(s[tight[-1]]) + opts.window_m, p.core_start_m - LEAD_KEEP_M)
+        if cut <= 0:
+            continue
+        p.centerline = cut_polyline(p.centerline, cut, math.inf)
+        p.core_start_m -= cut
+        p.core_end_m -= cut
+    return paths
+
+
 def _sloped(lines: Sequence[np.ndarray]) -> list[bool]:
     """For each line, whether its z varies (vectorised over the lines).
 
@@ -267,16 +318,52 @@ def make_curve(
     return measure(net, [(curve_id, kind, junction, path)], opts)[0]
 
 
+def permitted_lanes(curve: Curve) -> tuple[str, ...]:
+    """The lanes whose permissions decide whether a vehicle may drive a curve: the
+    feature's lanes with the lane just before and just after them (a turn's approach
+    lane, internal lanes and exit lane). Lanes further along the lead-in and run-out
+    belong to the neighbouring curves.
+
+    Examples
+    --------
+    >>> from types import SimpleNamespace as NS
+    >>> permitted_lanes(NS(lanes=("a", "b", ":J_0_0", "c", "d"), core_lanes=(":J_0_0",)))
+    ('b', ':J_0_0', 'c')
+    >>> permitted_lanes(NS(lanes=("e_0",), core_lanes=("e_0",)))
+    ('e_0',)
+    """
+    lanes, core = curve.lanes, curve.core_lanes
+    if not core:
+        return tuple(lanes)
+    n = len(core)
+    for i in range(len(lanes) - n + 1):
+        if lanes[i : i + n] == core:
+            return tuple(lanes[max(i - 1, 0) : i + n + 1])
+    return tuple(core)
+
+
+def permits(net: Network, curve: Curve, vclass: str) -> bool:
+    """Whether SUMO's ``allow``/``disallow`` let vehicles of class ``vclass`` drive the
+    curve: every lane of :func:`permitted_lanes` admits it (a lane the network does not
+    know is taken as admitting it)."""
+    lanes = net.lanes
+    return all(k not in lanes or vclass in lanes[k].allowed for k in permitted_lanes(curve))
+
+
 def _road_lane(net: Network, lane_id: str) -> bool:
     lane = net.lanes.get(lane_id)
     return lane is not None and lane.allows_road_vehicles()
 
 
 def find_turns(
-    net: Network, opts: CurveOptions, table: LaneTable | None = None
+    net: Network, opts: CurveOptions, table: LaneTable | None = None, uturns: bool = False
 ) -> Iterable[Item]:
-    """Yield one ``turn`` per connection through a junction's internal lanes."""
+    """Yield one ``turn`` per connection through a junction's internal lanes; with
+    ``uturns``, one ``uturn`` per automatic turnaround (``dir="t"``) instead."""
+    kind = "uturn" if uturns else "turn"
     if not net.has_internal_lanes:
+        if uturns:
+            return
         log.warning(
             "%s: built without internal lanes (--no-internal-links): junction turns have no "
             "geometry and are not extracted; rebuild the network with internal links",
@@ -293,12 +380,12 @@ def find_turns(
         if not via or from_edge.startswith(":"):
             continue
         junction = junction_of_internal(via)  # (the first of its via lanes)
-        if junction in ring_nodes:
+        if junction in ring_nodes or (conn.direction == "t") != uturns:
             continue
         junction = junction_ids.setdefault(junction, junction)
         from_lane, to_lane = f"{from_edge}_{from_index}", f"{to_edge}_{to_index}"
-        named.append((f"turn:{junction}:{from_lane}->{to_lane}", junction, from_lane, to_lane,
-                      conn))
+        named.append((f"{kind}:{junction}:{from_lane}->{to_lane}", junction, from_lane,
+                      to_lane, conn))
     named.sort(key=itemgetter(0))
     for curve_id, junction, from_lane, to_lane, conn in named:
         a, b = lanes.get(from_lane), lanes.get(to_lane)
@@ -310,7 +397,7 @@ def find_turns(
         if not vias:
             continue
         path = plan_path(net, [from_lane], vias, [to_lane], approach, approach, table=table)
-        yield (curve_id, "turn", junction, path)
+        yield (curve_id, kind, junction, path)
 
 
 def find_roundabouts(
@@ -533,7 +620,7 @@ def _runs(mask: np.ndarray) -> list[tuple[int, int]]:
 
 def extract_curves(
     net: Network,
-    kinds: Iterable[str] = KINDS,
+    kinds: Iterable[str] = DEFAULT_KINDS,
     options: CurveOptions | None = None,
     areas: bool = True,
     build_ahead: bool = False,
@@ -545,7 +632,7 @@ def extract_curves(
     net
         A network from :func:`networks.reader.read_network`.
     kinds
-        Any of ``turn``, ``roundabout``, ``ramp``, ``bend``.
+        Any of :data:`KINDS`; by default :data:`DEFAULT_KINDS` (``uturn`` left out).
     options
         Extraction parameters (approach length, fitting window, thresholds).
     areas
@@ -589,6 +676,8 @@ def _extract(
         # together); the turns come first, so what is measured is a prefix of the list
         offer = feed.offer if feed is not None else None
         curves.extend(measure(net, find_turns(net, opts, table), opts, table, offer))
+    if "uturn" in wanted:
+        curves.extend(measure(net, find_turns(net, opts, table, uturns=True), opts, table))
     if "roundabout" in wanted:
         curves.extend(measure(net, list(find_roundabouts(net, opts, table)), opts, table))
     ramp_edges: set[str] = set()

@@ -257,7 +257,9 @@ def drive(
             d.error = d.error or "the model did not run"
             continue
         try:
-            d.result = evaluate(d.run, areas[d.curve.curve_id], options.offset_m)
+            # judged by its feature: the sweep while the vehicle is in it
+            d.result = evaluate(d.run, areas[d.curve.curve_id], options.offset_m,
+                                feature_m=(d.curve.core_start_m, d.curve.core_end_m))
         except (InputError, ValueError, shapely.errors.ShapelyError) as exc:
             # one run's bad geometry must not lose the others' results
             d.error = (d.error + "; " if d.error else "") + f"envelope or verdict failed: {exc}"
@@ -416,9 +418,7 @@ class _SumoSession:
             if v.height_m is not None and math.isfinite(v.height_m):
                 t.vehicletype.setHeight(tid, v.height_m)
             t.vehicletype.setShapeClass(tid, shape_class(v.category))
-            vclass = getattr(v, "vclass", None)
-            if vclass:
-                t.vehicletype.setVehicleClass(tid, vclass)
+            t.vehicletype.setVehicleClass(tid, v.vclass)
             t.vehicletype.setParameter(tid, "model", v.name)
             t.vehicletype.setActionStepLength(tid, NO_DECISIONS_S, True)
             for k, val in vtype_parameters(v).items():

@@ -3,7 +3,9 @@
 A *path* is an ordered list of lane ids a vehicle drives: approach lanes, the core (the
 lanes of the feature: a junction's internal lanes, a ring, a ramp), exit lanes. The
 approach is extended back through upstream lanes when the approach lane is shorter than
-wanted (preferring straight-on connections), the exit forward likewise.
+wanted (preferring straight-on connections), the exit forward likewise, only through lanes
+a road vehicle may drive (:func:`drivable`) and only straight on (never through a turn or
+a U-turn, which are neighbouring curves).
 """
 
 from __future__ import annotations
@@ -15,7 +17,7 @@ import numpy as np
 
 from networks.geometry import MIN_CHORD_M
 from networks.lane_table import LaneTable
-from networks.reader import Connection, Network
+from networks.reader import ROAD_VCLASSES, Connection, Network
 
 #: Preference among connection directions when a path is extended (straight on first).
 _DIR_RANK = {"s": 0, "R": 1, "L": 2, "r": 3, "l": 4, "t": 6}
@@ -65,6 +67,48 @@ def via_lanes(net: Network, conn: Connection) -> list[str] | None:
     return out
 
 
+#: Edge functions no vehicle drives on, whatever their lanes allow.
+NOT_ROADS = frozenset(("walkingarea", "crossing"))
+
+
+def drivable(net: Network, lane_id: str) -> bool:
+    """Whether a road vehicle may drive a lane: it admits a passenger car, bus, truck,
+    coach, delivery van or trailer (SUMO's ``allow``/``disallow``), and it is not a
+    walking area or crossing. Sidewalks, rails and bicycle-only lanes are not.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from networks.reader import Lane, Location, Network
+    >>> def lane(i, allowed, function="normal"):
+    ...     return Lane(i, i[:-2], 0, 3.2, function, frozenset(allowed), np.zeros((2, 3)), 1.0, 9.0)
+    >>> lanes = {"s_0": lane("s_0", {"pedestrian"}), "r_0": lane("r_0", {"passenger"}),
+    ...          "w_0": lane("w_0", {"passenger"}, "walkingarea")}
+    >>> net = Network(None, lanes, {}, [], {}, [], Location())
+    >>> drivable(net, "r_0"), drivable(net, "s_0"), drivable(net, "w_0"), drivable(net, "x")
+    (True, False, False, False)
+    """
+    lane = net.lanes.get(lane_id)
+    return (lane is not None and lane.function not in NOT_ROADS
+            and not lane.allowed.isdisjoint(ROAD_VCLASSES))
+
+
+#: Connection directions a lead-in or run-out may be extended through: straight on and
+#: SUMO's partial turns. A right or left turn, or a U-turn, before a feature is a curve of
+#: its own (its neighbour's), never part of this one's lead-in.
+EXTEND_DIRECTIONS = frozenset(("s", "R", "L"))
+
+
+def _may_extend(net: Network, conn: Connection, lane_id: str) -> bool:
+    """A connection an approach or exit may be extended through: straight on or a partial
+    turn (:data:`EXTEND_DIRECTIONS`), onto a drivable lane, and through drivable internal
+    lanes only."""
+    if conn.direction not in EXTEND_DIRECTIONS or not drivable(net, lane_id):
+        return False
+    vias = via_lanes(net, conn) or []
+    return all(drivable(net, v) for v in vias)
+
+
 def _rank(conn: Connection) -> tuple[int, str]:
     return (_DIR_RANK.get(conn.direction, 5), conn.from_lane + ">" + conn.to_lane)
 
@@ -79,8 +123,9 @@ def extend_back(
 ) -> list[str]:
     """Lanes upstream of ``lane_id`` (farthest first) covering at least ``need_m`` metres.
 
-    Follows the straightest connection into each lane (its internal lanes included);
-    stops early where nothing leads in, at a loop, or after :data:`MAX_EXTENSION_LANES`.
+    Follows the straightest connection into each lane (its internal lanes included) that
+    a road vehicle may drive and that goes straight on (:func:`_may_extend`); stops early
+    where nothing leads in, at a loop, or after :data:`MAX_EXTENSION_LANES`.
     """
     out: list[str] = []
     seen = {lane_id}
@@ -90,6 +135,7 @@ def extend_back(
             c
             for c in net.incoming(cur)
             if not _is_internal(net, c.from_lane) and c.from_lane not in seen
+            and _may_extend(net, c, c.from_lane)
         ]
         if not cands:
             break
@@ -106,12 +152,14 @@ def extend_back(
 def extend_forward(
     net: Network, lane_id: str, need_m: float, table: LaneTable | None = None
 ) -> list[str]:
-    """Lanes downstream of ``lane_id`` (nearest first) covering at least ``need_m`` metres."""
+    """Lanes downstream of ``lane_id`` (nearest first) covering at least ``need_m`` metres
+    (as :func:`extend_back`: drivable lanes only, straight on only)."""
     out: list[str] = []
     seen = {lane_id}
     cur = lane_id
     while need_m > 0 and len(out) < MAX_EXTENSION_LANES:
-        cands = [c for c in net.outgoing(cur) if c.to_lane in net.lanes and c.to_lane not in seen]
+        cands = [c for c in net.outgoing(cur) if c.to_lane in net.lanes and c.to_lane not in seen
+                 and _may_extend(net, c, c.to_lane)]
         if not cands:
             break
         conn = min(cands, key=_rank)

@@ -63,6 +63,9 @@ class Batch:
         Folder for SUMO's FCD output, or ``None``.
     log_level
         The study's logging level, for the worker's own log.
+    use_sumo
+        ``False`` computes the simulate method's runs without replaying them in SUMO (the
+        same model, envelopes and verdicts; :attr:`networks.driver.DriveOptions.use_sumo`).
     """
 
     network: str
@@ -74,6 +77,7 @@ class Batch:
     fcd_dir: str | None = None
     log_level: int = logging.WARNING
     part: str = ""
+    use_sumo: bool = True
 
     def __len__(self) -> int:
         return len(self.pairs)
@@ -215,7 +219,7 @@ def _simulated(batch: Batch, net: Network, items: Sequence[tuple[int, Curve]]
         Path(batch.fcd_dir).mkdir(parents=True, exist_ok=True)
         fcd = Path(batch.fcd_dir) / file_name([batch.network, f"{batch.index:03d}{batch.part}"],
                                               ".fcd.xml")
-    options = DriveOptions(offset_m=batch.clearance_m, fcd_output=fcd)
+    options = DriveOptions(offset_m=batch.clearance_m, fcd_output=fcd, use_sumo=batch.use_sumo)
     runs = drive(net, [(batch.vehicles[v], c) for v, c in items], options=options)
     return [_driven_record(batch, r) for r in runs]
 

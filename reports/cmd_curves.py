@@ -10,7 +10,7 @@ import sys
 from collections.abc import Sequence
 from pathlib import Path
 
-from networks.curves import KINDS, Curve, CurveOptions, extract_curves
+from networks.curves import DEFAULT_KINDS, KINDS, Curve, CurveOptions, extract_curves
 from networks.reader import read_network
 from reports.atomic import write_text_atomic
 from reports.text_table import format_table
@@ -49,7 +49,8 @@ def add_parser(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParse
         "--kind",
         action="append",
         choices=KINDS,
-        help="only curves of this kind (repeat for several; default: all)",
+        help="only curves of this kind (repeat for several; default: all but uturn, "
+        "netconvert's automatic turnarounds)",
     )
     parser.add_argument("-o", "--output", type=Path, help="write the table as CSV here")
     parser.add_argument(
@@ -72,7 +73,7 @@ def run(args: argparse.Namespace) -> int:
         raise InputError(f"--approach must be a positive length in metres, not {args.approach}")
     net = read_network(args.net)
     options = CurveOptions(approach_length_m=args.approach)
-    curves = extract_curves(net, args.kind or KINDS, options, areas=False)
+    curves = extract_curves(net, args.kind or DEFAULT_KINDS, options, areas=False)
     rows = [curve_row(c) for c in curves]
     print_summary(args.net, rows, args.limit)
     if args.output is not None:

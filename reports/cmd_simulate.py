@@ -35,7 +35,7 @@ from pathlib import Path
 import numpy as np
 
 from analysis.tracking import TrackingSettings
-from networks.curves import KINDS, Curve
+from networks.curves import DEFAULT_KINDS, Curve
 from networks.driver import (
     REPLAY_COMMAND,
     DrivenRun,
@@ -116,7 +116,7 @@ def add_parser(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParse
     add_vehicle_option(p, required=True, help="vehicle to drive (repeatable)")
     p.add_argument("--curve", action="append", metavar="ID",
                    help="only this curve (repeatable; ids as `clearance curves` lists them)")
-    add_selection_options(p, kinds_default="all")
+    add_selection_options(p, kinds_default="all but uturn")
     p.add_argument("-o", "--output", type=Path, metavar="DIR",
                    help="write results.csv, envelopes.geojson and trajectories/ here")
     add_clearance_option(p)
@@ -158,7 +158,8 @@ def run(args: argparse.Namespace) -> int:
     folder = output_folder(args.output, LAYOUT) if args.output is not None else nullcontext()
     with folder as staging:
         net = read_network(args.net)
-        selection = replace(selection_of(args), kinds=tuple(dict.fromkeys(args.kind or KINDS)))
+        kinds = tuple(dict.fromkeys(args.kind or DEFAULT_KINDS))
+        selection = replace(selection_of(args), kinds=kinds)
         if selection.junctions:
             check_junctions(selection.junctions, [net])
         curves = select_curves(load_selected(net, selection), args.curve)

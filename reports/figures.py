@@ -106,7 +106,9 @@ def plot_network(nc: NetworkCurves, frame: pd.DataFrame, stem: Path, marked: int
         title = (f"{nc.name}: around junction {group[0].junction}" if len(groups) > 1
                  else f"{nc.name}: every curve")
         plot_plan(nc.network, ax, title, (cx - half, cx + half, cy - half, cy + half))
-        for c in sorted(group, key=lambda c: -VERDICT_ORDER[verdict[c.curve_id]]):
+        # a curve no vehicle of the table may use (not permitted) has no verdict
+        judged = [c for c in group if c.curve_id in verdict]
+        for c in sorted(judged, key=lambda c: -VERDICT_ORDER[verdict[c.curve_id]]):
             v = verdict[c.curve_id]
             core = _core_points(c)
             ax.plot(core[:, 0], core[:, 1], color=COLOURS[v],

@@ -1,7 +1,11 @@
 """Running a study: every vehicle through every curve of every network.
 
-:func:`run_study` reads each network, extracts its curves (with approaches long enough for
-the longest vehicle), and measures every vehicle on every curve by one of two methods:
+:func:`run_study` reads each network, extracts its curves with lead-ins and run-outs of
+a fixed :data:`APPROACH_M`, whatever the table (a vehicle's verdicts never depend on which
+other vehicles are in it; the verdict is judged in the feature only), keeps for each
+vehicle the curves whose lanes admit its SUMO class (:func:`permitted_groups`; the others
+are counted as not permitted), and measures every vehicle on those curves by one of two
+methods:
 
 ``simulate``
     Each vehicle is driven along each curve with its kinematic model within its steering
@@ -30,13 +34,13 @@ import os
 import sys
 import time
 from collections.abc import Callable, Iterable, Iterator, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
 import pandas as pd
 
-from networks.curves import Curve, CurveOptions
+from networks.curves import Curve, CurveOptions, permits
 from networks.reader import Network, read_network
 from networks.selection import Selection, check_junctions, load_selected
 from reports.batch import Batch, detached, lost_batch, run_batch, split_batch
@@ -47,7 +51,8 @@ from vehicles.table import VehicleTable
 from vehicles.vehicle import Vehicle
 
 __all__ = ["BATCH_RUNS", "COLUMNS", "METHODS", "VERDICT_ORDER", "NetworkCurves", "RunRecord",
-           "Study", "batches_of", "load_networks", "network_name", "progress_bar", "run_study"]
+           "Study", "batches_of", "load_networks", "network_name", "permitted", "progress_bar",
+           "run_study"]
 
 log = logging.getLogger(__name__)
 
@@ -78,6 +83,9 @@ class Study:
     table: VehicleTable
     method: str
     clearance_m: float
+    #: (network, vehicle, curve id) of every curve whose lanes do not admit the
+    #: vehicle's SUMO class: not run, not a verdict
+    not_permitted: list[tuple[str, str, str]] = field(default_factory=list)
 
     def frame(self) -> pd.DataFrame:
         """One row per network × vehicle × curve (the columns of ``clearance.csv``)."""
@@ -104,12 +112,16 @@ def network_name(path: Path, taken: Iterable[str] = ()) -> str:
     return name
 
 
-def load_networks(paths: Sequence[str | Path], longest_m: float,
+#: Lead-in and run-out of every curve of a study (m): the same whatever the vehicle table.
+APPROACH_M = 30.0
+
+
+def load_networks(paths: Sequence[str | Path],
                   selection: Selection | None = None) -> list[NetworkCurves]:
-    """Read each network and extract its curves, approaches long enough for ``longest_m``
-    (only those of ``selection``, see :mod:`networks.selection`)."""
+    """Read each network and extract its curves, with :data:`APPROACH_M` lead-ins (only
+    those of ``selection``, see :mod:`networks.selection`)."""
     out: list[NetworkCurves] = []
-    opts = CurveOptions(approach_length_m=max(25.0, longest_m + 5.0))
+    opts = CurveOptions(approach_length_m=APPROACH_M)
     unique: dict[str, Path] = {}
     for p in paths:  # the same file named twice is studied once
         key = os.path.realpath(p)
@@ -150,22 +162,34 @@ def progress_bar(total: int, desc: str) -> Callable[[int], None]:
 
 def batches_of(nc: NetworkCurves, vehicles: Sequence[Vehicle], method: str,
                clearance_m: float, fcd_dir: Path | None = None,
-               size: int = BATCH_RUNS) -> Iterator[Batch]:
-    """The batches of one network: consecutive curves, each with all its vehicles, up to
-    ``size`` runs (one curve at least).
+               size: int = BATCH_RUNS,
+               allowed: dict[str, list[int]] | None = None,
+               use_sumo: bool = True) -> Iterator[Batch]:
+    """The batches of one network: consecutive curves, each with all its vehicles (those
+    ``allowed`` on it, when given: vehicle indices by curve id), up to ``size`` runs (one
+    curve at least).
 
     A run's result does not depend on the other runs of its batch (the model, the envelope
     and the verdict are computed run by run; SUMO only replays them), so the batches may be
     cut to suit the workers: ``tests/reports/test_executor.py`` holds 1 and 2 local workers
     and a Dask cluster byte-identical on ``clearance.csv``."""
-    per_curve = max(1, size // max(1, len(vehicles)))
     level = logging.getLogger("reports").getEffectiveLevel()
     vs = tuple(vehicles)
-    for k, lo in enumerate(range(0, len(nc.curves), per_curve)):
-        curves = [detached(c) for c in nc.curves[lo:lo + per_curve]]
-        pairs = tuple((vi, c) for c in curves for vi in range(len(vs)))
-        yield Batch(nc.name, k, method, clearance_m, vs, pairs,
-                    None if fcd_dir is None else str(fcd_dir), level)
+    every = list(range(len(vs)))
+    k, pairs = 0, []
+    for c in nc.curves:
+        which = every if allowed is None else allowed.get(c.curve_id, [])
+        if not which:
+            continue
+        if pairs and len(pairs) + len(which) > size:
+            yield Batch(nc.name, k, method, clearance_m, vs, tuple(pairs),
+                        None if fcd_dir is None else str(fcd_dir), level, use_sumo=use_sumo)
+            k, pairs = k + 1, []
+        d = detached(c)
+        pairs += [(vi, d) for vi in which]
+    if pairs:
+        yield Batch(nc.name, k, method, clearance_m, vs, tuple(pairs),
+                    None if fcd_dir is None else str(fcd_dir), level, use_sumo=use_sumo)
 
 
 def run_study(
@@ -179,6 +203,7 @@ def run_study(
     client: Any = None,
     executor: Executor | None = None,
     selection: Selection | None = None,
+    use_sumo: bool = True,
 ) -> Study:
     """Every vehicle of ``table`` through every curve of every network (of ``selection``).
 
@@ -190,6 +215,12 @@ def run_study(
         A ``dask.distributed`` scheduler address or client: the runs go to its workers.
     executor
         An :class:`~reports.executor.Executor` to use (and leave open) instead.
+    use_sumo
+        ``False``: the simulate method without replaying the runs in SUMO (the same model,
+        envelopes and verdicts, faster).
+    use_sumo
+        ``False``: the simulate method without replaying the runs in SUMO (the same model,
+        envelopes and verdicts, faster).
     selection
         Only the curves of this :class:`~networks.selection.Selection` (kind, junction,
         box), chosen before any area is built.
@@ -204,20 +235,25 @@ def run_study(
     if not clearance_m >= 0:
         raise InputError(f"--clearance must be a distance >= 0 m, not {clearance_m}")
     vehicles = table.vehicles()
-    longest = max(v.overall_length_m for v in vehicles)
-    nets = load_networks(network_paths, longest, selection)
-    total = sum(len(n.curves) for n in nets) * len(vehicles)
-    update = progress_bar(total, f"{method} {len(vehicles)} vehicles")
+    nets = load_networks(network_paths, selection)
     records: list[RunRecord] = []
+    refused: list[tuple[str, str, str]] = []
+    allowed = {nc.name: permitted(nc, vehicles, refused) for nc in nets}
+    total = sum(len(v) for a in allowed.values() for v in a.values())
+    update = progress_bar(total, f"{method} {len(vehicles)} vehicles")
     ex = executor or make_executor(workers, scheduler, client)
     try:
-        log.info("%d runs on %d worker(s)", total, ex.workers)
+        log.info("%d runs on %d worker(s); %d not permitted", total, ex.workers,
+                 len(refused))
         for nc in nets:
+            runs = sum(len(v) for v in allowed[nc.name].values())
+            if not runs:
+                continue
             shared = ex.share(nc.path) if method == "simulate" else None
             t0 = time.perf_counter()
-            runs = len(nc.curves) * len(vehicles)
             size = max(1, min(BATCH_RUNS, -(-runs // (2 * ex.workers))))
-            tasks = batches_of(nc, vehicles, method, clearance_m, fcd_dir, size)
+            tasks = batches_of(nc, vehicles, method, clearance_m, fcd_dir, size,
+                               allowed[nc.name], use_sumo)
             for batch, recs in run_isolated(ex, run_batch, tasks, split_batch, lost_batch,
                                             shared):
                 records += recs
@@ -233,4 +269,27 @@ def run_study(
     curve_order = {(n.name, c.curve_id): i for n in nets for i, c in enumerate(n.curves)}
     records.sort(key=lambda r: (net_order[r.network], curve_order[(r.network, r.curve_id)],
                                 order[r.vehicle]))
-    return Study(records, nets, table, method, clearance_m)
+    return Study(records, nets, table, method, clearance_m, sorted(refused))
+
+
+def permitted(nc: NetworkCurves, vehicles: Sequence[Vehicle],
+              refused: list[tuple[str, str, str]]) -> dict[str, list[int]]:
+    """For each curve id of ``nc``, the indices of the vehicles whose SUMO class its lanes
+    admit (:func:`networks.curves.permits`); every other (network, vehicle, curve) is added
+    to ``refused``.
+
+    A vehicle is checked only on the curves it may drive; the others are not permitted,
+    never a failure, and not run at all."""
+    by_class: dict[str, list[int]] = {}
+    for i, v in enumerate(vehicles):
+        by_class.setdefault(v.vclass, []).append(i)
+    out: dict[str, list[int]] = {}
+    for c in nc.curves:
+        ok: list[int] = []
+        for vclass, members in by_class.items():
+            if permits(nc.network, c, vclass):
+                ok += members
+            else:
+                refused += [(nc.name, vehicles[i].name, c.curve_id) for i in members]
+        out[c.curve_id] = sorted(ok)
+    return out

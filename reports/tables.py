@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import hashlib
 import json
+from collections import Counter
 from importlib import metadata
 from pathlib import Path
 
@@ -80,6 +81,10 @@ def summary(study: Study, vehicle_tables: list[Path],
         "verdicts": {v: int((frame.verdict == v).sum()) for v in VERDICTS},
         "by_network": counts(frame, "network"),
         "by_vehicle": counts(frame, "vehicle"),
+        "not_permitted": {
+            "runs": len(study.not_permitted),
+            "by_vehicle": dict(sorted(Counter(v for _, v, _ in study.not_permitted).items())),
+        },
         "worst": [
             {"network": r.network, "vehicle": r.vehicle, "curve_id": r.curve_id,
              "verdict": r.verdict, "margin_m": round(float(r.margin_m), 3)}

@@ -96,6 +96,41 @@ class Column:
         return above and below
 
 
+# ---------------------------------------------------------------- SUMO vehicle class
+
+VCLASSES: tuple[str, ...] = (
+    "passenger", "private", "taxi", "bus", "coach", "delivery", "truck", "trailer",
+    "emergency", "authority", "army", "vip", "hov", "evehicle", "motorcycle", "moped",
+    "custom1", "custom2",
+)
+"""SUMO vehicle classes a table row may name (those that drive on roads)."""
+
+#: Category words and the SUMO class they mean, the first match winning (lower case).
+_CATEGORY_VCLASS: tuple[tuple[str, str], ...] = (
+    ("semitrailer", "trailer"), ("combination", "trailer"), ("trailer", "trailer"),
+    ("coach", "coach"), ("bus", "bus"), ("truck", "truck"), ("lorry", "truck"),
+    ("van", "delivery"), ("delivery", "delivery"), ("motorcycle", "motorcycle"),
+    ("emergency", "emergency"), ("fire", "emergency"), ("passenger", "passenger"),
+    ("car", "passenger"), ("suv", "passenger"),
+)
+
+
+def default_vclass(category: str) -> str:
+    """The SUMO vehicle class a row's ``category`` means when ``vclass`` is empty.
+
+    Examples
+    --------
+    >>> [default_vclass(c) for c in ("passenger car", "single-unit truck", "school bus",
+    ...                              "semitrailer combination", "Coach", "")]
+    ['passenger', 'truck', 'bus', 'trailer', 'coach', 'passenger']
+    """
+    text = category.lower()
+    for word, vclass in _CATEGORY_VCLASS:
+        if word in text:
+            return vclass
+    return "passenger"
+
+
 REQUIRED: tuple[Column, ...] = (
     Column("name", "text", doc="unique model name"),
     Column("category", "text", doc="free text, e.g. passenger car, bus, semitrailer"),
@@ -183,6 +218,11 @@ OPTIONAL: tuple[Column, ...] = (
     Column("ref_inside_radius", "length",
            doc="published minimum inside radius, kept for comparison only",
            low=0, high=100, why='as ctr'),
+    Column("vclass", "choice", choices=VCLASSES,
+           doc="SUMO vehicle class (allow/disallow decide which curves it is checked on); "
+               "default from the category: passenger car -> passenger, bus -> bus, coach "
+               "-> coach, truck -> truck, semitrailer/combination -> trailer, van -> "
+               "delivery"),
 )
 
 TRAILER: tuple[Column, ...] = (

@@ -42,6 +42,7 @@ from vehicles.schema import (
     TRAILER_NAMES,
     UNITS_TO_M,
     Column,
+    default_vclass,
 )
 from vehicles.steering import Breakpoints, RackPinion, Schedule, Steering
 from vehicles.vehicle import Trailer, Vehicle
@@ -589,6 +590,7 @@ def _derive(v: dict[str, object], where: str, problems: list[str], warnings: lis
         "max_inner_steer_rad": inner, "max_outer_steer_rad": outer, "max_steer_rad": phi,
         "min_radius_m": rho, "max_steer_rate_rad_s": rate,
         "lock_given": ",".join(given),
+        "vclass": v.get("vclass") or default_vclass(str(v["category"])),
     }
     for key in RACK_NAMES:
         out[f"{key}_m"] = f(key)
@@ -661,4 +663,5 @@ def vehicle_from_row(row: pd.Series) -> Vehicle:
         steered_axle=str(row["steered_axle"]),
         height_m=float(height) if np.isfinite(height) else None,
         trailer=trailer, category=str(row["category"]), source=str(row["source"]),
+        vclass=str(row.get("vclass") or default_vclass(str(row["category"]))),
     )

@@ -78,6 +78,8 @@ class Vehicle:
         The towed unit, or ``None``.
     category, source
         Free text from the table.
+    vclass
+        SUMO vehicle class: which lanes admit it (``allow``/``disallow``).
     """
 
     name: str
@@ -94,6 +96,7 @@ class Vehicle:
     trailer: Trailer | None = None
     category: str = ""
     source: str = ""
+    vclass: str = "passenger"
     params: dict[str, str] = field(default_factory=dict, compare=False)
 
     @property

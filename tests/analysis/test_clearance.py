@@ -9,7 +9,15 @@ import pytest
 import shapely
 import shapely.affinity
 
-from analysis.clearance import VERDICTS, Areas, classify, evaluate, evaluate_batch, signed_margin_m
+from analysis.clearance import (
+    VERDICTS,
+    Areas,
+    classify,
+    evaluate,
+    evaluate_batch,
+    feature_mask,
+    signed_margin_m,
+)
 from analysis.tracking import simulate, simulate_batch
 from tests.analysis.helpers import bus, car, turn
 from vehicles.errors import InputError
@@ -186,3 +194,72 @@ def test_area_segments_are_the_boundary_and_give_the_same_margins() -> None:
                         rng.uniform(3, 6)), rng.uniform(0, 180), origin=(0, 0))
         assert signed_margin_m(envelope, area, area_segments=segs) == pytest.approx(
             signed_margin_m(envelope, area), abs=1e-12)
+
+
+# ---------------------------------------------------------------- judged by its feature
+
+def test_only_the_sweep_in_the_feature_decides() -> None:
+    # a straight 60 m run in a 3.5 m lane; 10 m of the lead-in has a curb that cuts the
+    # lane to 1 m wide (a neighbouring corner): the feature, at 40..45 m, is clear
+    v = car()
+    run = simulate(v, [(0.0, 1.75), (60.0, 1.75)])
+    pinch = shapely.box(5.0, 0.0, 15.0, 2.5)
+    lane = shapely.difference(LANE, pinch)
+    paved = shapely.difference(PAVED, shapely.box(5.0, -0.5, 15.0, 2.5))
+    areas = Areas(lane, paved)
+    whole = evaluate(run, areas)
+    judged = evaluate(run, areas, feature_m=(40.0, 45.0))
+    assert whole.verdict == "fails"
+    assert judged.verdict == "clear"
+    # 3.5 m lane, 1.8 m car centred: 0.85 m either side, in the feature
+    assert judged.margin_m == pytest.approx(0.85, abs=0.01)
+    # the envelope judged reaches from the front bumper at the feature's start back to the
+    # rear bumper at its end (along x here), plus one sample either side
+    x0, _, x1, _ = judged.measured.bounds
+    assert x0 == pytest.approx(40.0 - v.length_m, abs=0.25)
+    assert x1 == pytest.approx(45.0 + v.length_m, abs=0.25)
+    # a feature where the curb is: fails, as the whole run
+    assert evaluate(run, areas, feature_m=(8.0, 12.0)).verdict == "fails"
+
+
+def test_a_tracking_error_outside_the_feature_is_not_cannot_turn() -> None:
+    # a corner of 5 m radius (tighter than the bus's lock: 1.5 m off the line) on the
+    # lead-in, then 70 m straight: that error belongs to that corner, not to a feature 50 m on
+    line = turn(5.0, 90.0, lead_m=10.0, tail_m=70.0, left=True)
+    run = simulate(bus(), line)
+    assert run.cannot_turn and run.max_error_m > 1.0 and run.reached_end
+    s_corner = 10.0 + 5.0 * math.pi / 2
+    areas = Areas(shapely.LineString(line).buffer(6.0), shapely.LineString(line).buffer(30.0))
+    feature = (s_corner + 50.0, s_corner + 55.0)
+    judged = evaluate(run, areas, feature_m=feature)
+    assert judged.verdict != "cannot-turn", judged.clearance.reason
+    err = np.abs(run.trajectory.error_m)
+    mask = feature_mask(run, feature)
+    assert err[mask].max() <= run.settings.tolerance_m < err.max()
+    # the corner itself as the feature: cannot-turn there, with the reason saying so
+    at_corner = evaluate(run, areas, feature_m=(10.0, s_corner))
+    assert at_corner.verdict == "cannot-turn"
+    assert "in the feature" in at_corner.clearance.reason
+
+
+def test_feature_window_spans_the_whole_vehicle_trailer_included() -> None:
+    from tests.analysis.helpers import semi
+
+    v = semi()
+    run = simulate(v, [(0.0, 0.0), (80.0, 0.0)])
+    s = run.trajectory.s_m[feature_mask(run, (40.0, 41.0))]
+    # from the front bumper reaching 40 m to the trailer's rear leaving 41 m
+    assert s.min() == pytest.approx(40.0 - v.front_overhang_m, abs=0.25)
+    assert s.max() == pytest.approx(41.0 + v.overall_length_m - v.front_overhang_m, abs=0.25)
+    assert v.overall_length_m > v.length_m + 5.0
+
+
+def test_a_run_stopped_before_the_feature_cannot_turn_there() -> None:
+    # stopped (beyond the abort distance) at a 3 m corner: it never got through the feature
+    line = turn(3.0, 90.0, lead_m=10.0, tail_m=70.0, left=True)
+    run = simulate(bus(), line)
+    assert not run.reached_end
+    areas = Areas(shapely.LineString(line).buffer(6.0), shapely.LineString(line).buffer(30.0))
+    judged = evaluate(run, areas, feature_m=(60.0, 65.0))
+    assert judged.verdict == "cannot-turn"
+    assert judged.clearance.reason.startswith("the run stopped before the vehicle had left")

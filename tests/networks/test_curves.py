@@ -219,3 +219,98 @@ def test_turns_are_found_in_the_order_of_their_ids(small_grid):
     assert len(ids) == len(set(ids)) > 100
     assert ids == sorted(ids)
     assert [c.curve_id for c in extract_curves(net, ["turn"], areas=False)] == ids
+
+
+def test_automatic_uturns_are_a_kind_of_their_own_left_out_by_default(build_net):
+    # netconvert adds a turnaround (dir "t") at each end of a two-way street by default
+    nodes = '<node id="A" x="-100" y="0"/><node id="B" x="0" y="0"/><node id="C" x="100" y="0"/>'
+    edges = (
+        '<edge id="AB" from="A" to="B"/><edge id="BA" from="B" to="A"/>'
+        '<edge id="BC" from="B" to="C"/><edge id="CB" from="C" to="B"/>'
+    )
+    net = read_network(build_net(nodes, edges))
+    turnarounds = {(c.from_lane, c.to_lane) for c in net.connections
+                   if c.direction == "t" and c.via}
+    assert turnarounds, "netconvert made no turnaround"
+    default = extract_curves(net, areas=False)
+    assert all(c.kind != "uturn" and not c.curve_id.startswith("uturn:") for c in default)
+    direction = {(c.from_lane, c.to_lane): c.direction for c in net.connections}
+    for c in default:
+        if c.kind == "turn":
+            a, b = c.curve_id.split(":", 2)[2].split("->")
+            assert direction[(a, b)] != "t", c.curve_id
+    uturns = extract_curves(net, ["uturn"], areas=False)
+    assert {tuple(c.curve_id.split(":", 2)[2].split("->")) for c in uturns} == turnarounds
+    assert all(c.kind == "uturn" and abs(abs(c.turn_angle_deg) - 180) < 10 for c in uturns)
+    # all kinds together: turns first, then U-turns, each sorted by id
+    both = extract_curves(net, ["turn", "uturn"], areas=False)
+    assert [c.kind for c in both] == sorted((c.kind for c in both), key=["turn", "uturn"].index)
+
+
+def test_approach_and_exit_never_run_on_sidewalks_or_walking_areas(build_net):
+    # a pedestrian zone open to deliveries (one shared lane each way, as OSM's
+    # highway=pedestrian): its lanes connect to walking areas at both junctions
+    zone = 'numLanes="1" allow="pedestrian delivery bicycle"'
+    edges = "".join(
+        f'<edge id="{a}{b}" from="{a}" to="{b}" {zone}/>'
+        for a, b in (("W", "X"), ("X", "W"), ("X", "E"), ("E", "X"), ("S", "X"), ("X", "S"))
+    )
+    nodes = ('<node id="W" x="-30" y="0"/><node id="X" x="0" y="0" type="priority"/>'
+             '<node id="E" x="30" y="0"/><node id="S" x="0" y="-30"/>')
+    net = read_network(build_net(nodes, edges, None, "--walkingareas"))
+    walk = {k for k, ln in net.lanes.items() if ln.function == "walkingarea"}
+    assert walk
+    # the street's lanes do lead into walking areas
+    assert any(c.to_lane in walk for c in net.connections)
+    from networks.paths import drivable
+
+    curves = extract_curves(net, ["turn"], CurveOptions(approach_length_m=60.0), areas=False)
+    assert curves
+    for c in curves:
+        bad = [k for k in c.lanes if not drivable(net, k)]
+        assert not bad, (c.curve_id, bad)
+
+
+def test_permissions_follow_the_lanes_allow(build_net):
+    # a bus-only street from the west and an ordinary one from the south, into a junction
+    nodes = ('<node id="W" x="-60" y="0"/><node id="X" x="0" y="0" type="priority"/>'
+             '<node id="N" x="0" y="60"/><node id="S" x="0" y="-60"/>')
+    edges = ('<edge id="WX" from="W" to="X" numLanes="1" allow="bus"/>'
+             '<edge id="SX" from="S" to="X" numLanes="1"/>'
+             '<edge id="XN" from="X" to="N" numLanes="1"/>')
+    net = read_network(build_net(nodes, edges))
+    from networks.curves import permits, permitted_lanes
+
+    by_id = {c.curve_id: c for c in extract_curves(net, ["turn"], areas=False)}
+    from_w, from_s = by_id["turn:X:WX_0->XN_0"], by_id["turn:X:SX_0->XN_0"]
+    assert permitted_lanes(from_s)[0] == "SX_0" and permitted_lanes(from_s)[-1] == "XN_0"
+    assert permits(net, from_w, "bus") and not permits(net, from_w, "passenger")
+    assert permits(net, from_s, "bus") and permits(net, from_s, "passenger")
+
+
+def test_a_lead_in_starts_after_its_last_tight_corner(build_net):
+    # the approach edge has a 6 m radius corner 20 m before junction B (an OSM service
+    # road's), then runs straight east into B, where a right turn leads south
+    arc = _arc(-20, -6, 6, 180, 90, step_deg=10.0)  # from (-26, -6) round to (-20, 0)
+    shape = [(-26, -60), *map(tuple, arc[:, :2]), (0, 0)]
+    nodes = ('<node id="A" x="-26" y="-60"/><node id="B" x="0" y="0" type="priority"/>'
+             '<node id="C" x="0" y="-60"/><node id="D" x="60" y="0"/>')
+    edges = (f'<edge id="AB" from="A" to="B" numLanes="1" shape="{_fmt(shape)}"/>'
+             '<edge id="BC" from="B" to="C" numLanes="1"/>'
+             '<edge id="BD" from="B" to="D" numLanes="1"/>')
+    net = read_network(build_net(nodes, edges))
+    from networks.curves import LEAD_KEEP_M
+
+    by_id = {c.curve_id: c for c in extract_curves(net, ["turn"], CurveOptions(40.0),
+                                                   areas=False)}
+    from networks.geometry import curvature_profile, radius_from_curvature
+
+    straight = by_id["turn:B:AB_0->BD_0"]
+    # it starts after the corner, on the straight part (the corner is 20 m before B,
+    # less B's junction radius), and nothing on the lead-in is tight any more
+    assert LEAD_KEEP_M <= straight.core_start_m < 20.0
+    _, k = curvature_profile(straight.centerline, 0.25, 3.0, 0.0,
+                             straight.core_start_m - LEAD_KEEP_M, adaptive=False)
+    assert radius_from_curvature(k).min() > 15.0
+    # with the corner in it, the lead-in would have reached back the 40 m asked for
+    assert sum(net.lanes[k].length_m for k in straight.lanes[:1]) > 40.0

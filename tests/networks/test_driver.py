@@ -56,14 +56,14 @@ VAN = "2008 Chrysler Town & Country"
 DESIGNED = [
     ("intersection", "P", "turn:X:XN_in_0", "XW_out_0", "clear", 0.02),
     ("intersection", "CITY-BUS", "turn:X:XN_in_0", "XW_out_0", "fails", -2.01),
-    ("intersection", "P", "turn:T:TW_in_0", "TS_out_0", "fails", -0.27),
-    ("intersection", "SU-30", "turn:T:TW_in_0", "TS_out_0", "cannot-turn", -1.66),
+    ("intersection", "P", "turn:T:TW_in_0", "TS_out_0", "fails", -0.22),
+    ("intersection", "SU-30", "turn:T:TW_in_0", "TS_out_0", "cannot-turn", -1.63),
     ("roundabout", "P", "roundabout:R0:R0_in_", "R2_out_", "clear", 0.26),
     ("roundabout", "SU-30", "roundabout:R0:R0_in_", "R2_out_", "encroaches", -0.77),
     ("roundabout", "WB-62", "roundabout:R0:R0_in_", "R1_out_", "fails", -3.47),
     ("roundabout", "WB-62", "roundabout:C0:C0_in_", "C3_out_", "cannot-turn", -5.73),
-    ("parking_ramp", VAN, "ramp:", "helix", "clear", 0.07),
-    ("parking_ramp", "P", "ramp:", "helix", "fails", -0.15),
+    ("parking_ramp", VAN, "ramp:", "helix", "clear", 0.09),
+    ("parking_ramp", "P", "ramp:", "helix", "fails", -0.13),
 ]
 
 

@@ -440,3 +440,25 @@ def test_generated_bytes_raise_nothing_but_input_errors(tmp_path_factory, data):
         load_tables([p])
     except InputError:
         pass
+
+
+def test_vclass_defaults_from_the_category_and_can_be_given(tmp_path):
+    p = write(tmp_path, HEADER + ",max_steer_deg,vclass\n"
+              "A,passenger car,m,4.5,1.8,2.7,0.9,test,35,\n"
+              "B,city bus,m,12,2.5,6,2.5,test,40,\n"
+              "C,semitrailer combination,m,20,2.5,6,1.2,test,40,\n"
+              "D,passenger car,m,5,2,3,1,test,35,Taxi\n")
+    t = load_tables([p])
+    assert [v.vclass for v in t.vehicles()] == ["passenger", "bus", "trailer", "taxi"]
+    assert list(t.frame["vclass"]) == ["passenger", "bus", "trailer", "taxi"]
+    # the bundled tables: every row has the class its category names
+    bundled = {v.name: v.vclass for v in load_tables().vehicles()}
+    assert bundled["P"] == "passenger" and bundled["CITY-BUS"] == "bus"
+    assert bundled["SU-30"] == "truck" and bundled["WB-67"] == "trailer"
+
+
+def test_unknown_vclass_is_a_row_problem(tmp_path):
+    p = write(tmp_path, HEADER + ",max_steer_deg,vclass\nA,car,m,4.5,1.8,2.7,0.9,test,35,"
+              "hovercraft\n")
+    (problem,) = problems_of(p)
+    assert "column vclass" in problem and "hovercraft" in problem

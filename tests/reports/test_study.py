@@ -1,0 +1,78 @@
+"""Running a study: permissions by SUMO class, and verdicts independent of the table."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+
+from reports.study import APPROACH_M, run_study
+from reports.tables import summary
+from vehicles.table import bundled_table, load_tables
+
+#: ../shared/realnets from the repository root (a worktree sits one level deeper)
+REALNETS = [Path(__file__).resolve().parents[n] / "shared" / "realnets" for n in (3, 4)]
+
+
+def _realnet(name: str) -> Path:
+    for folder in REALNETS:
+        if (folder / name).is_file():
+            return folder / name
+    pytest.skip(f"{name} is not in ../shared/realnets")
+
+
+def test_curves_a_vehicle_may_not_use_are_not_permitted_never_run(tmp_path):
+    from networks.sumo_tools import netconvert_plain
+
+    try:
+        net = netconvert_plain(
+            tmp_path, "bus",
+            nodes=('<nodes><node id="W" x="-60" y="0"/><node id="X" x="0" y="0" '
+                   'type="priority"/><node id="N" x="0" y="60"/><node id="S" x="0" y="-60"/>'
+                   '</nodes>'),
+            edges=('<edges><edge id="WX" from="W" to="X" numLanes="1" allow="bus"/>'
+                   '<edge id="SX" from="S" to="X" numLanes="1"/>'
+                   '<edge id="XN" from="X" to="N" numLanes="1"/></edges>'),
+            options=["--no-turnarounds"])
+    except FileNotFoundError as exc:  # pragma: no cover - depends on the install
+        pytest.skip(f"netconvert is not available: {exc}")
+    table = load_tables([bundled_table("aashto_green_book")], names=["P", "CITY-BUS"])
+    study = run_study([net], table, method="analytic")
+    ran = {(r.vehicle, r.curve_id) for r in study.records}
+    assert ("CITY-BUS", "turn:X:WX_0->XN_0") in ran
+    assert ("P", "turn:X:WX_0->XN_0") not in ran
+    assert ("P", "turn:X:SX_0->XN_0") in ran
+    assert study.not_permitted == [("bus", "P", "turn:X:WX_0->XN_0")]
+    s = summary(study, [])
+    assert s["not_permitted"] == {"runs": 1, "by_vehicle": {"P": 1}}
+    assert s["runs"] == len(study.records) == 3
+    # never a failure: the runs that were made are the only verdicts
+    assert sum(s["verdicts"].values()) == 3
+    # a table with no vehicle allowed on the bus street: its curve has no verdict, and the
+    # plan figure leaves it out instead of failing
+    from reports.figures import plot_network
+
+    cars = run_study([net], load_tables([bundled_table("aashto_green_book")], names=["P"]),
+                     method="analytic")
+    assert {r.curve_id for r in cars.records} == {"turn:X:SX_0->XN_0"}
+    written = plot_network(cars.networks[0], cars.frame(), tmp_path / "plan")
+    assert written and all(Path(p).stat().st_size > 0 for p in written)
+
+
+def test_a_vehicles_verdicts_do_not_depend_on_the_others_in_the_table():
+    net = _realnet("bologna_joined.net.xml.gz")
+    path = bundled_table("aashto_green_book")
+    # the simulate method's model, envelopes and verdicts, without the replay in SUMO
+    alone = run_study([net], load_tables([path], names=["P"]), use_sumo=False)
+    both = run_study([net], load_tables([path], names=["P", "WB-67"]), use_sumo=False)
+    # the former rule (the longest vehicle plus 5 m, at least 25 m) gave these two tables
+    # different lead-ins; now every study has the same
+    wb67 = load_tables([path], names=["WB-67"]).vehicles()[0]
+    assert wb67.overall_length_m + 5 > 25.0 and APPROACH_M == 30.0
+
+    def p_rows(study):
+        return [(r.curve_id, r.verdict, round(r.margin_m, 6), round(r.paved_margin_m, 6))
+                for r in study.records if r.vehicle == "P"]
+
+    assert len(p_rows(alone)) > 300
+    assert p_rows(alone) == p_rows(both)
