@@ -176,7 +176,8 @@ def batches_of(nc: NetworkCurves, vehicles: Sequence[Vehicle], method: str,
     level = logging.getLogger("reports").getEffectiveLevel()
     vs = tuple(vehicles)
     every = list(range(len(vs)))
-    k, pairs = 0, []
+    k = 0
+    pairs: list[tuple[int, Curve]] = []
     for c in nc.curves:
         which = every if allowed is None else allowed.get(c.curve_id, [])
         if not which:
