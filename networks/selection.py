@@ -193,19 +193,18 @@ def load_selected(
     net: Network,
     selection: Selection | None = None,
     options: CurveOptions | None = None,
-    build_ahead: bool = False,
 ) -> list[Curve]:
     """The curves of ``net`` that pass ``selection``, with areas built on demand.
 
     Only the selected kinds are extracted. When the selection also drops curves by
     junction or box, the curves are extracted without areas, filtered, and only the kept
     ones get an :class:`~networks.area_book.AreaBook` (so no area of a dropped curve is
-    ever built; ``build_ahead`` applies only to an extraction that keeps every curve).
+    ever built).
     """
     selection = selection or Selection()
     kinds = selection.effective_kinds()
     if not selection.narrows:
-        return extract_curves(net, kinds, options=options, build_ahead=build_ahead)
+        return extract_curves(net, kinds, options=options)
     from networks.area_book import AreaBook
 
     kept = select(extract_curves(net, kinds, options=options, areas=False), selection)

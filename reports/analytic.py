@@ -2,7 +2,7 @@
 
 Where the driven method (libsumo and the kinematic model) follows the transient, the
 analytic method places the vehicle at each station of the centre line in the steady turn
-of the local radius (DESIGN.md §4): with the steered-axle centre on the centre line at
+of the local radius (docs/design.md §4): with the steered-axle centre on the centre line at
 radius ``R``, the rear axle runs at ``rho = sqrt(R^2 - l^2)``, the body reaches
 ``R_out = sqrt((rho + B/2)^2 + (l + a)^2)`` outside and ``rho - B/2`` inside (a trailer:
 ``sqrt(rho^2 + e^2 - l_t^2) - B_t/2``). The envelope is the band between those offsets of
@@ -173,7 +173,7 @@ def run_analytic(vehicle: Vehicle, curve: Curve, offset_m: float = 0.0) -> Analy
         reason = (f"curve radius {curve.min_radius_m:.2f} m is tighter than the minimum "
                   f"centre-line turning radius {min_ctr:.2f} m")
     measured = envelope.buffer(offset_m, quad_segs=8) if offset_m > 0 else envelope
-    # The band ends on the lanes' end lines: those ends are not curbs (DESIGN.md §6).
+    # The band ends on the lanes' end lines: those ends are not curbs (docs/design.md §6).
     boxes = end_boxes(path, float(np.max(inner + outer)) + offset_m + 1.0)
     measured = shapely.difference(measured, boxes)
     ignore = shapely.buffer(boxes, END_SLACK_M, quad_segs=1)

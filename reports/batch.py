@@ -26,8 +26,8 @@ from pathlib import Path
 
 from analysis.tracking import TrackingSettings
 from networks.curves import Curve
-from networks.driver import DrivenRun, DriveOptions, drive
 from networks.reader import Network, read_network
+from networks.sumo.driver import DrivenRun, DriveOptions, drive
 from reports.analytic import minimum_ctr_m, run_analytic
 from reports.executor import SharedFile
 from reports.file_names import file_name
@@ -65,7 +65,7 @@ class Batch:
         The study's logging level, for the worker's own log.
     use_sumo
         ``False`` computes the simulate method's runs without replaying them in SUMO (the
-        same model, envelopes and verdicts; :attr:`networks.driver.DriveOptions.use_sumo`).
+        same model, envelopes and verdicts; :attr:`networks.sumo.driver.DriveOptions.use_sumo`).
     """
 
     network: str
@@ -321,7 +321,7 @@ def split_drive(task: DriveTask) -> list[DriveTask]:
 
 
 def run_drive(task: DriveTask, shared: SharedFile) -> list[DrivenRun]:
-    """Drive ``task``'s runs in this worker (:func:`networks.driver.drive`)."""
+    """Drive ``task``'s runs in this worker (:func:`networks.sumo.driver.drive`)."""
     return drive(worker_network(shared), list(task.pairs), task.settings, task.options)
 
 

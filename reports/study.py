@@ -9,7 +9,7 @@ methods:
 
 ``simulate``
     Each vehicle is driven along each curve with its kinematic model within its steering
-    lock and rate, placed every step in a libsumo simulation (:mod:`networks.driver`); the
+    lock and rate, placed every step in a libsumo simulation (:mod:`networks.sumo.driver`); the
     swept envelope of the run is measured against the curve's areas.
 ``analytic``
     Each vehicle in the steady turn of the local radius at every station
@@ -50,9 +50,9 @@ from vehicles.errors import InputError
 from vehicles.table import VehicleTable
 from vehicles.vehicle import Vehicle
 
-__all__ = ["BATCH_RUNS", "COLUMNS", "METHODS", "VERDICT_ORDER", "NetworkCurves", "RunRecord",
-           "Study", "batches_of", "load_networks", "network_name", "permitted", "progress_bar",
-           "run_study"]
+__all__ = ["APPROACH_M", "BATCH_RUNS", "COLUMNS", "METHODS", "VERDICT_ORDER", "NetworkCurves",
+           "RunRecord", "Study", "batches_of", "load_networks", "network_name", "permitted",
+           "progress_bar", "run_study"]
 
 log = logging.getLogger(__name__)
 
@@ -132,7 +132,7 @@ def load_networks(paths: Sequence[str | Path],
     if selection is not None and selection.junctions:
         check_junctions(selection.junctions, [net for _, net in nets])
     for path, net in nets:
-        curves = load_selected(net, selection, opts, build_ahead=True)
+        curves = load_selected(net, selection, opts)
         name = network_name(path, [n.name for n in out])
         if not curves:
             log.warning("%s: no curves found", path)

@@ -16,7 +16,7 @@ import argparse
 import sys
 from pathlib import Path
 
-from networks.sumo_tools import run_sumo_tool
+from networks.sumo.tools import run_sumo_tool
 
 __all__ = ["COMMON_OPTIONS", "OPTIONS", "SAMPLES", "SAMPLES_DIR", "VIEWS", "build", "main",
            "sources"]

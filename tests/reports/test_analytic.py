@@ -5,8 +5,8 @@ from __future__ import annotations
 import pytest
 
 from networks.curves import CurveOptions, extract_curves
-from networks.driver import DriveOptions, drive
 from networks.reader import read_network
+from networks.sumo.driver import DriveOptions, drive
 from reports.analytic import minimum_ctr_m, run_analytic
 from reports.cmd_report import sample_networks
 from reports.study import APPROACH_M

@@ -22,7 +22,7 @@ def _realnet(name: str) -> Path:
 
 
 def test_curves_a_vehicle_may_not_use_are_not_permitted_never_run(tmp_path):
-    from networks.sumo_tools import netconvert_plain
+    from networks.sumo.tools import netconvert_plain
 
     try:
         net = netconvert_plain(

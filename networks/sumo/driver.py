@@ -66,7 +66,7 @@ fault) writing FCD output for a vehicle whose first placement is off every lane.
 ``vehicle.getRoadID`` on a placed vehicle: it crashes for one off every lane.
 
 The libsumo-free helpers (vType parameters, lane hints, placement points, the replay
-configuration) are in :mod:`networks.placement`.
+configuration) are in :mod:`networks.sumo.placement`.
 """
 
 from __future__ import annotations
@@ -91,7 +91,8 @@ from analysis.polyline import Path, prepare_path
 from analysis.tracking import TrackingSettings, simulate_batch
 from networks.curves import Curve
 from networks.geometry import heading_rad_to_navigational
-from networks.placement import (  # noqa: F401 - re-exported
+from networks.reader import Network
+from networks.sumo.placement import (  # noqa: F401 - re-exported
     REPLAY_COMMAND,
     edge_of_lane,
     first_on,
@@ -104,8 +105,7 @@ from networks.placement import (  # noqa: F401 - re-exported
     trailer_front,
     vtype_parameters,
 )
-from networks.reader import Network
-from networks.runs import (  # noqa: F401 - re-exported
+from networks.sumo.runs import (  # noqa: F401 - re-exported
     DEFAULT_SUMO_STEP_S,
     DrivenRun,
     DriveOptions,
@@ -117,8 +117,7 @@ from vehicles.errors import InputError
 from vehicles.vehicle import Vehicle
 
 __all__ = ["DriveOptions", "DriveStats", "DrivenRun", "NO_DECISIONS_S", "REPLAY_COMMAND",
-           "curve_areas", "drive", "edge_of_lane", "front_bumper", "lane_boundaries_m",
-           "replay_config", "route_edges", "select_curves", "shape_class", "vtype_parameters"]
+           "curve_areas", "drive", "replay_config", "select_curves"]
 
 log = logging.getLogger(__name__)
 
@@ -503,7 +502,9 @@ class _SumoSession:
         return _Plan(i, rid, units, len(at), at)
 
     def _add_vehicle(self, vid: str, route: str, vtype: str) -> None:
-        """Add a vehicle on its route; where SUMO refuses that route, on its first edge.
+        """Add a vehicle on its route; where SUMO refuses that route, on its first edge; where
+        the class may not depart on the route's first edge (a lead-in over a bus lane), on
+        the first edge that admits it.
 
         The vType has the vehicle's own SUMO class, and only curves whose lanes admit it are
         driven, so SUMO's permissions hold. There is no fallback to vClass ``ignoring``:
@@ -517,13 +518,31 @@ class _SumoSession:
             t.vehicle.add(vid, route, typeID=vtype, departPos="0")
             return
         except t.TraCIException as exc:
-            if "no valid route" not in str(exc):
+            refused = exc
+            if "no valid route" in str(exc):
+                first = f"{route}.first"
+                if first not in self.free_routes:
+                    t.route.add(first, list(t.route.getEdges(route))[:1])
+                    self.free_routes.add(first)
+                t.vehicle.add(vid, first, typeID=vtype, departPos="0")
+                return
+            if "not allowed to depart" not in str(exc):
                 raise
-        first = f"{route}.first"
-        if first not in self.free_routes:
-            t.route.add(first, list(t.route.getEdges(route))[:1])
-            self.free_routes.add(first)
-        t.vehicle.add(vid, first, typeID=vtype, departPos="0")
+        # a lead-in over a lane the class may not use (a bus lane before a car's turn):
+        # depart on the first edge of the route that admits it; the model places it
+        edges = list(t.route.getEdges(route))
+        for k in range(1, len(edges)):
+            tail = f"{route}.from{k}"
+            if tail not in self.free_routes:
+                t.route.add(tail, edges[k:])
+                self.free_routes.add(tail)
+            try:
+                t.vehicle.add(vid, tail, typeID=vtype, departPos="0")
+                return
+            except t.TraCIException as exc:
+                if "not allowed to depart" not in str(exc):
+                    raise
+        raise refused
 
     def _place_all(self, active: dict[int, _Plan]) -> None:
         """Place every vehicle in flight at its current sample; drop the runs SUMO refuses."""
@@ -612,7 +631,7 @@ class _GiveUp(Exception):
 
 def _import_libsumo():
     """libsumo with SUMO_HOME set from the ``eclipse-sumo`` package."""
-    from networks.sumo_tools import sumo_home
+    from networks.sumo.tools import sumo_home
 
     try:
         os.environ.setdefault("SUMO_HOME", str(sumo_home()))
