@@ -9,7 +9,13 @@ import pandas as pd
 
 from reports import compare, templates
 from reports.atomic import write_text_atomic
-from reports.options import add_table_option, add_units_option, add_vehicle_option
+from reports.options import (
+    add_output_option,
+    add_table_option,
+    add_units_option,
+    add_vehicle_option,
+)
+from reports.text_table import counted
 from vehicles.table import load_tables
 
 __all__ = ["add_parser", "run"]
@@ -27,8 +33,8 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
     add_table_option(p)
     add_vehicle_option(p)
     add_units_option(p)
-    p.add_argument("-o", "--output", metavar="DIR", default="compare",
-                   help="output folder (default: ./compare)")
+    add_output_option(p, folder=True, metavar="DIR", default="compare",
+                      help="output folder (default: ./compare)")
     p.set_defaults(run=run)
 
 
@@ -46,7 +52,8 @@ def run(args: argparse.Namespace) -> int:
     shown = frame.drop(columns=["category", "units"]).round(2)
     with pd.option_context("display.width", 250, "display.max_columns", 40,
                            "display.max_rows", 500):
-        print(f"{len(frame)} models, sorted by wall-to-wall diameter (lengths in {args.units})")
+        print(f"{counted(len(frame), 'model')}, sorted by wall-to-wall diameter "
+              f"(lengths in {args.units})")
         print(shown.to_string(index=False))
     print(f"wrote {len(written)} files under {out}/")
     return 0

@@ -7,9 +7,9 @@ import argparse
 from networks.curves import KINDS
 from networks.selection import Selection, parse_bbox
 
-__all__ = ["add_clearance_option", "add_executor_options", "add_selection_options",
-           "add_table_option", "add_units_option", "add_vehicle_option", "add_waivers_option",
-           "selection_of"]
+__all__ = ["add_clearance_option", "add_executor_options", "add_net_option", "add_output_option",
+           "add_selection_options", "add_table_option", "add_units_option", "add_vehicle_option",
+           "add_waivers_option", "selection_of"]
 
 
 def add_table_option(p: argparse.ArgumentParser) -> None:
@@ -71,3 +71,19 @@ def add_waivers_option(p: argparse.ArgumentParser) -> None:
     p.add_argument("--waivers", metavar="WAIVERS.csv",
                    help="CSV of accepted verdicts: curve_id (or glob), vehicle (or *), "
                         "verdict, reason; waived runs are shown as such and pass check")
+
+
+def add_net_option(p: argparse.ArgumentParser, repeatable: bool = False,
+                   required: bool = False, help: str = ".net.xml or .net.xml.gz",
+                   **kwargs) -> None:
+    """``-n/--net/--net-file NET`` (SUMO's name beside ours); repeatable for a study."""
+    p.add_argument("-n", "--net", "--net-file", dest="net", metavar="NET", required=required,
+                   action="append" if repeatable else "store", help=help, **kwargs)
+
+
+def add_output_option(p: argparse.ArgumentParser, folder: bool, metavar: str, help: str,
+                      **kwargs) -> None:
+    """``-o/--output/--output-file`` (SUMO's name beside ours), and ``--output-dir`` when
+    the output is a folder."""
+    names = ["-o", "--output", "--output-file"] + (["--output-dir"] if folder else [])
+    p.add_argument(*names, dest="output", metavar=metavar, help=help, **kwargs)

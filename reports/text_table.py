@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
 
-__all__ = ["format_table"]
+__all__ = ["counted", "format_table"]
 
 
 def format_table(rows: Sequence[Mapping[str, str]], columns: Sequence[str],
@@ -28,3 +28,14 @@ def format_table(rows: Sequence[Mapping[str, str]], columns: Sequence[str],
         return "  ".join(parts).rstrip()
 
     return [line(heads)] + [line([r[c] for c in columns]) for r in rows]
+
+
+def counted(n: int, noun: str, plural: str | None = None) -> str:
+    """``n`` and the noun, singular for one.
+
+    >>> counted(1, "vehicle"), counted(2, "vehicle"), counted(0, "run")
+    ('1 vehicle', '2 vehicles', '0 runs')
+    >>> counted(2, "batch", "batches")
+    '2 batches'
+    """
+    return f"{n} {noun if n == 1 else (plural or noun + 's')}"
