@@ -54,7 +54,7 @@ LAYOUT = Layout(
     files=frozenset({"clearance.csv", "summary.json", "report.md", "report.html",
                      "swept.geojson", "swept.add.xml", "swept.dxf"}),
     folders={"figures": (".png", ".svg", ".jpg"), "fcd": (".xml",),
-             "exports": (".add.xml", ".dxf", ".geojson")},
+             "exports": (".add.xml", ".dxf", ".geojson"), "sheets": (".pdf",)},
     signature=("clearance.csv", ",".join(COLUMNS[:4])),
 )
 
@@ -69,7 +69,8 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
         "report",
         help="clearance report: every vehicle through every curve of every network",
         description="Every vehicle x every curve of every network: clearance.csv, "
-                    "summary.json, report.html, report.md with figures, and per network "
+                    "summary.json, report.html, report.md with figures, sheets/<network>.pdf "
+                    "(A3 swept-path sheets, worst runs first), and per network "
                     "under exports/: NET.add.xml (sumo-gui -n NET -a NET.add.xml), NET.dxf "
                     "(CAD) and NET.geojson (GIS). Without arguments: the bundled sample "
                     "networks and vehicle tables, output under reports/out/.",
@@ -97,10 +98,45 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
     p.set_defaults(run=run)
 
 
-def envelope_records(study: Study) -> list[EnvelopeRecord]:
+#: Runs whose vehicle bodies and wheel paths the CAD export draws, per network: the worst
+#: run of each of the worst curves, as many as the report draws (they are driven again).
+DRAWN_RUNS = 60
+
+
+def drawn_geometry(study: Study, limit: int = DRAWN_RUNS
+                   ) -> dict[tuple[str, str, str], tuple[tuple, tuple]]:
+    """Body outlines and wheel paths of the worst run of each of the ``limit`` worst curves
+    of every network (not clear ones first; see :func:`reports.drawing.run_geometry`), by
+    (network, vehicle, curve id). The runs are driven again without SUMO (the same model,
+    so the same paths)."""
+    from reports.drawing import rerun, run_geometry
+    from reports.figures import worst_by_curve
+
+    out: dict[tuple[str, str, str], tuple[tuple, tuple]] = {}
+    if study.method != "simulate":
+        return out
+    frame = study.frame()
+    vehicles = {v.name: v for v in study.table.vehicles()}
+    for nc in study.networks:
+        f = frame[(frame.network == nc.name) & (frame.verdict != "error")]
+        if f.empty:
+            continue
+        by_id = {c.curve_id: c for c in nc.curves}
+        for row in worst_by_curve(f).head(limit).itertuples():
+            curve = by_id[row.curve_id]
+            [driven] = rerun(nc, curve, [vehicles[row.vehicle]], study.clearance_m)
+            out[(nc.name, row.vehicle, row.curve_id)] = run_geometry(curve, driven)
+    return out
+
+
+def envelope_records(study: Study,
+                     drawn: dict[tuple[str, str, str], tuple[tuple, tuple]] | None = None
+                     ) -> list[EnvelopeRecord]:
     """The exportable runs of ``study``: envelope, offset, conflict with the curve's areas,
-    and the body outlines and wheel paths where the runs carry them."""
+    and the body outlines and wheel paths of the runs in ``drawn``
+    (:func:`drawn_geometry`)."""
     curves = {(n.name, c.curve_id): c for n in study.networks for c in n.curves}
+    drawn = drawn or {}
     out = []
     for r in study.records:
         if r.verdict == "error" or r.envelope is None or r.envelope.is_empty:
@@ -112,8 +148,8 @@ def envelope_records(study: Study) -> list[EnvelopeRecord]:
             r.network, r.vehicle, r.curve_id, r.kind, r.verdict, r.margin_m, r.envelope,
             offset_m=r.clearance_m, outside_lanes=outside_lanes,
             outside_pavement=outside_pavement,
-            body_outlines=tuple(getattr(r, "body_outlines", None) or ()),
-            wheel_paths=tuple(getattr(r, "wheel_paths", None) or ())))
+            body_outlines=drawn.get((r.network, r.vehicle, r.curve_id), ((), ()))[0],
+            wheel_paths=drawn.get((r.network, r.vehicle, r.curve_id), ((), ()))[1]))
     return out
 
 
@@ -137,7 +173,7 @@ def write_exports(study: Study, folder: Path, origin: tuple[float, float] | None
     from reports.export_sumo import write_sumo_additional
     from reports.exports import by_network
 
-    groups = by_network(envelope_records(study))
+    groups = by_network(envelope_records(study, drawn_geometry(study)))
     written = {}
     for nc in study.networks:
         records = groups.get(nc.name, [])
@@ -158,12 +194,15 @@ def write_report(study: Study, folder: Path, tables: list[Path], units: str = "m
     """Write every output of ``study`` into ``folder`` (which must be new or empty);
     ``waived`` runs are shown as such (:mod:`reports.waivers`); ``origin`` (lat, lon)
     places the networks without a projection in the GeoJSON exports."""
+    from reports.sheets import write_sheets
+
     write_text_atomic(folder / "clearance.csv", clearance_csv(study, waived))
     write_text_atomic(folder / "summary.json", summary_json(study, tables, waived))
     exports = write_exports(study, folder, origin)
     sections = build_sections(study, folder, units, waived)
     write_text_atomic(folder / "report.md", markdown(study, sections, folder, units))
     write_text_atomic(folder / "report.html", html_document(study, sections, units, exports))
+    write_sheets(study, folder / "sheets", tables, units)
 
 
 def run(args: argparse.Namespace) -> int:

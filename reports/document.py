@@ -90,7 +90,7 @@ def build_sections(study: Study, folder: Path, units: str = "m",
     for nc in study.networks:
         f = frame[frame.network == nc.name]
         # stems: plotting.save appends .png and .svg
-        plan = plot_network(nc, f, figs / file_name([nc.name, "plan"], room=4))[0]
+        plan = plot_network(nc, f, figs / file_name([nc.name, "plan"], room=4), units=units)[0]
         worst = worst_by_curve(f)
         counts = {v: int((f.verdict == v).sum()) for v in sorted(VERDICT_ORDER,
                                                                    key=VERDICT_ORDER.__getitem__)
@@ -122,7 +122,7 @@ def build_sections(study: Study, folder: Path, units: str = "m",
             recs.sort(key=lambda r: (VERDICT_ORDER[r.verdict], r.margin_m))
             shown = pick_envelopes(recs)
             stem = figs / file_name([nc.name, "curve", cid], room=4)
-            png = plot_curve(nc, by_id[cid], shown, stem)[0]
+            png = plot_curve(nc, by_id[cid], shown, stem, table=study.table, units=units)[0]
             caption = ", ".join(f"{r.vehicle} {r.verdict} ({r.margin_m / scale:+.2f} {units})"
                                 for r in shown)
             section.curve_figures.append((cid, png, caption))
@@ -333,8 +333,8 @@ a{color:inherit;text-decoration:none}
 #: with the curve names, so that each fits a screen and a printed page.
 MATRIX_VEHICLES = 12
 #: Figures in report.html: at most this wide (pixels) and quantised to this many colours.
-HTML_IMAGE_WIDTH_PX = 720
-HTML_IMAGE_COLOURS = 32
+HTML_IMAGE_WIDTH_PX = 640
+HTML_IMAGE_COLOURS = 24
 
 
 def compact_png(png: Path, width_px: int = HTML_IMAGE_WIDTH_PX,

@@ -171,6 +171,11 @@ def test_dxf_reopens_with_the_base_plan_and_layers_per_vehicle(report, rows):
     # the bus encroaches somewhere (the sample's design): its conflict is hatched
     assert any(r["verdict"] != "clear" for r in rows if r["vehicle"] == "CITY-BUS")
     assert len(msp.query('HATCH[layer=="CITY-BUS-CONFLICT-LANE"]')) >= 1
+    # the worst run of each curve is drawn with its body at intervals and its wheel paths:
+    # seven outlines of four corners, and the paths of the outer front and inner rear wheel
+    bodies = msp.query('LWPOLYLINE[layer=="CITY-BUS-BODY"]')
+    assert len(bodies) >= 7 and all(len(b) == 4 for b in bodies)
+    assert len(msp.query('LWPOLYLINE[layer=="CITY-BUS-WHEEL-PATH"]')) >= 2
 
 
 def test_exports_per_network_in_each_networks_coordinates(tmp_path):
