@@ -47,6 +47,11 @@ from reports.study import NetworkCurves
 from reports.units import length_scale
 from vehicles.vehicle import Vehicle
 
+__all__ = ["BADGE", "MIN_CONFLICT_M2", "OUTSIDE_LANES", "OUTSIDE_PAVEMENT", "OWN_LANES", "Shown",
+           "VERDICT_STYLE", "badge_text", "dimension", "draw_bodies", "draw_curve", "draw_run",
+           "legend_handles", "length_text", "overreach", "rerun", "run_geometry", "stop_point",
+           "stop_words", "view_bounds"]
+
 #: Envelope outline by verdict (the verdict is told by line style and badge, not fill).
 VERDICT_STYLE = {"clear": ("-", 1.1), "encroaches": ((0, (5, 2)), 1.4),
                  "fails": ((0, (7, 2, 1.5, 2)), 1.8), "cannot-turn": ((0, (1.5, 1.5)), 1.8),

@@ -24,7 +24,8 @@ from reports.units import length_scale  # noqa: E402
 if TYPE_CHECKING:
     from matplotlib.typing import RcKeyType
 
-__all__ = ["STYLE", "add_north_arrow", "add_scale_bar", "new_figure", "nice_length", "save"]
+__all__ = ["PALETTE", "STYLE", "add_north_arrow", "add_scale_bar", "new_figure", "nice_length",
+           "nice_step", "plan_axes", "save", "unit_name", "vehicle_colours"]
 
 STYLE: dict[RcKeyType, Any] = {
     "font.size": 9,
