@@ -38,7 +38,8 @@ from reports.text_table import counted
 from reports.waivers import Waived, read_waivers, study_waivers
 from vehicles.table import bundled_table_paths, load_tables
 
-__all__ = ["DEFAULT_OUTPUT", "LAYOUT", "add_parser", "envelope_records", "run", "sample_networks",
+__all__ = ["DEFAULT_OUTPUT", "DRAWN_RUNS", "LAYOUT", "add_parser", "drawn_geometry",
+           "envelope_records", "export_names", "run", "sample_networks", "write_exports",
            "write_report"]
 
 log = logging.getLogger(__name__)

@@ -27,8 +27,10 @@ from reports.text_table import counted
 from reports.units import length_scale
 from reports.waivers import Waived
 
-__all__ = ["CSS", "MAX_CURVE_FIGURES", "MAX_ENVELOPES", "SYMBOL", "Section", "TIGHT_M",
-           "build_sections", "html_document", "markdown", "pick_envelopes"]
+__all__ = ["CSS", "CurveEntry", "HTML_IMAGE_COLOURS", "HTML_IMAGE_WIDTH_PX", "MATRIX_VEHICLES",
+           "MAX_CURVE_FIGURES", "MAX_ENVELOPES", "SYMBOL", "Section", "TIGHT_M", "anchor",
+           "build_sections", "compact_png", "html_document", "margin_words", "markdown",
+           "pick_envelopes", "run_words"]
 
 #: A curve is *tight* when its smallest margin is below this (m) though clear.
 TIGHT_M = 0.25

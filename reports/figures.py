@@ -35,7 +35,7 @@ from vehicles.table import VehicleTable
 if TYPE_CHECKING:
     from numpy.typing import NDArray
 
-__all__ = ["COLOURS", "plot_curve", "plot_network", "sites", "worst_by_curve"]
+__all__ = ["COLOURS", "plot_curve", "plot_network", "shown_runs", "sites", "worst_by_curve"]
 
 COLOURS = {"clear": "#1e8449", "encroaches": "#e67e22", "fails": "#c0392b",
            "cannot-turn": "#7d3c98", "error": "#000000"}

@@ -116,8 +116,8 @@ from networks.sumo.runs import (  # noqa: F401 - re-exported
 from vehicles.errors import InputError
 from vehicles.vehicle import Vehicle
 
-__all__ = ["DriveOptions", "DriveStats", "DrivenRun", "NO_DECISIONS_S", "REPLAY_COMMAND",
-           "curve_areas", "drive", "replay_config", "select_curves"]
+__all__ = ["DriveOptions", "DriveStats", "DrivenRun", "NO_DECISIONS_S", "curve_areas", "drive",
+           "replay_config", "select_curves"]
 
 log = logging.getLogger(__name__)
 
