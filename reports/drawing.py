@@ -290,7 +290,10 @@ def dimension(ax: Axes, a: np.ndarray, b: np.ndarray, text: str, colour: str,
     mid = (np.asarray(a) + np.asarray(b)) / 2
     ax.annotate(text, xy=tuple(mid), xytext=offset, textcoords="offset points",
                 fontsize=6.5, color="black", zorder=15, ha="left",
-                va="bottom" if offset[1] >= 0 else "top", annotation_clip=False,
+                va="bottom" if offset[1] >= 0 else "top",
+                # a dimension whose anchor lies outside the drawing is left out, not drawn
+                # beside it (it would stretch the saved figure)
+                annotation_clip=True,
                 bbox=dict(boxstyle="round,pad=0.2", fc="white", ec=colour, lw=0.6),
                 arrowprops=dict(arrowstyle="-", color=colour, lw=0.5))
 
