@@ -38,6 +38,7 @@ import dataclasses
 import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 import shapely
@@ -54,6 +55,10 @@ from analysis.kernels import farthest_from_segments, segments_distance
 from analysis.polyline import Path
 from analysis.tracking import TrackingRun
 from vehicles.errors import InputError
+
+__all__ = ["Areas", "Clearance", "DEFAULT_DENSIFY_M", "END_SLACK_M", "NEAR_M", "PRECISION_M",
+           "RunResult", "VERDICTS", "classify", "end_boxes", "evaluate", "evaluate_batch",
+           "farthest_on_lines", "feature_mask", "feature_reason", "signed_margin_m"]
 
 VERDICTS = ("cannot-turn", "fails", "encroaches", "clear")
 """Verdicts, worst first."""
@@ -527,8 +532,9 @@ def feature_mask(run: TrackingRun, feature_m: tuple[float, float]) -> np.ndarray
 def _slice_run(run: TrackingRun, keep: np.ndarray) -> TrackingRun:
     """The run restricted to the samples ``keep`` (indices, in order)."""
     tr = run.trajectory
-    cut = {f.name: (None if getattr(tr, f.name) is None else getattr(tr, f.name)[keep])
-           for f in dataclasses.fields(tr)}
+    cut: dict[str, Any] = {  # each field's own type: an array or None
+        f.name: (None if getattr(tr, f.name) is None else getattr(tr, f.name)[keep])
+        for f in dataclasses.fields(tr)}
     return dataclasses.replace(run, trajectory=dataclasses.replace(tr, **cut))
 
 

@@ -20,6 +20,8 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+__all__ = ["rho_of_theta", "safe_pathway", "safe_pathway_of_theta", "theta_of_rho"]
+
 FloatArray = NDArray[np.float64]
 
 

@@ -40,6 +40,8 @@ from numpy.typing import NDArray
 from analysis.trailer import advance_articulation
 from vehicles.errors import InputError
 
+__all__ = ["DEFAULT_STEP_M", "design_turn_inside_radius"]
+
 FloatArray = NDArray[np.float64]
 
 DEFAULT_STEP_M = 0.05

@@ -52,6 +52,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import cast
 
 import numpy as np
 import shapely
@@ -67,6 +68,10 @@ from analysis.kernels import (
 )
 from analysis.tracking import TrackingRun, Trajectory
 from vehicles.vehicle import Vehicle
+
+__all__ = ["DEFAULT_TOLERANCE_M", "DEFAULT_WIDTH_STEP_M", "SweptPath", "body_corners",
+           "body_points", "interval_hulls", "key_samples", "ring_segments", "sweep", "swept_path",
+           "swept_widths", "wheel_tracks"]
 
 FloatArray = NDArray[np.float64]
 
@@ -234,7 +239,8 @@ def interval_hulls(corners: FloatArray) -> NDArray[np.object_]:
         return shapely.from_ragged_array(shapely.GeometryType.POLYGON, coords,
                                          (offsets, np.arange(len(offsets))))
     pairs = np.concatenate([corners[:-1], corners[1:]], axis=1)
-    return shapely.convex_hull(shapely.multipoints(pairs))
+    # an (N, 8, 2) array of coordinates gives an array of N hulls
+    return cast("NDArray[np.object_]", shapely.convex_hull(shapely.multipoints(pairs)))
 
 
 def sweep(
@@ -279,11 +285,13 @@ def sweep(
     keys = key_samples(px, py, tolerance_m)
     xs, ys, ths = x_m[keys], y_m[keys], theta_rad[keys]
     if len(keys) == 1:
-        return shapely.polygons(body_corners(xs, ys, ths, ahead_m, behind_m, width_m)[0])
+        body: BaseGeometry = shapely.polygons(
+            body_corners(xs, ys, ths, ahead_m, behind_m, width_m)[0])
+        return body
     # the longer part first: the shorter part's hulls that its sweep covers (most of them,
     # away from where the turning starts) add nothing and are left out of the union
     parts = sorted(((ahead_m, -axle_m), (axle_m, behind_m)), key=lambda p: -(p[0] + p[1]))
-    swept = None
+    swept: BaseGeometry | None = None
     for ahead, behind in parts:
         if ahead + behind <= 0:
             continue
@@ -295,6 +303,8 @@ def sweep(
         hulls = hulls[~shapely.covers(swept, hulls)]
         if len(hulls):
             swept = shapely.union_all(np.concatenate([[swept], hulls]))
+    if swept is None:  # both parts of no length: ahead_m + behind_m <= 0
+        raise ValueError(f"sweep: a body of no length (ahead {ahead_m} m, behind {behind_m} m)")
     return swept
 
 
@@ -333,7 +343,8 @@ def wheel_tracks(vehicle: Vehicle, traj: Trajectory) -> dict[str, shapely.LineSt
     cx, cy = [traj.xf_m, traj.xf_m, traj.x_m, traj.x_m], [traj.yf_m, traj.yf_m, traj.y_m, traj.y_m]
     side = [half, -half, half, -half]
     heading = [traj.theta_rad] * 4
-    if vehicle.trailer is not None and traj.theta_t_rad is not None:
+    if (vehicle.trailer is not None and traj.theta_t_rad is not None
+            and traj.xt_m is not None and traj.yt_m is not None):
         ht = min(vehicle.track_m, vehicle.trailer.width_m) / 2
         names += ["trailer_left", "trailer_right"]
         cx += [traj.xt_m] * 2
@@ -348,7 +359,8 @@ def wheel_tracks(vehicle: Vehicle, traj: Trajectory) -> dict[str, shapely.LineSt
     coords[:, :, 1] = np.array(cy) + off * np.cos(th)
     if coords.shape[1] == 1:
         coords = np.concatenate([coords, coords], axis=1)
-    lines = shapely.linestrings(coords)
+    # an (N, M, 2) array of coordinates gives an array of N lines
+    lines = cast("NDArray[np.object_]", shapely.linestrings(coords))
     return dict(zip(names, lines, strict=True))
 
 
@@ -441,7 +453,8 @@ def swept_path(
     off = _offtracking(tr.xf_m, tr.yf_m, tr.x_m, tr.y_m, theta0)
     i_off = int(np.argmax(off))
     off_t = None
-    if v.trailer is not None and tr.theta_t_rad is not None:
+    if (v.trailer is not None and tr.theta_t_rad is not None
+            and tr.xt_m is not None and tr.yt_m is not None):
         t = v.trailer
         trailer_area = sweep(tr.xt_m, tr.yt_m, tr.theta_t_rad, t.wheelbase_m + t.front_overhang_m,
                              t.rear_overhang_m, t.width_m, tolerance_m)

@@ -15,6 +15,10 @@ import math
 import numpy as np
 from numba import njit
 
+__all__ = ["farthest_from_segments", "greedy_keys", "look_back_distance", "normal_widths",
+           "pair_hulls", "project_near", "segments_distance", "vertex_path_bounds",
+           "windowed_distance"]
+
 
 @njit(cache=True)
 def _point_segment_d2(qx: float, qy: float, ax: float, ay: float, bx: float,

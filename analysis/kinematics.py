@@ -23,6 +23,7 @@ one call. Scalars broadcast.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Literal
 
@@ -30,6 +31,10 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from vehicles.errors import InputError
+
+__all__ = ["CRAWL_SPEED_M_S", "SpeedProfile", "arc_step", "as_speed_profile",
+           "curvature_from_steer", "euler_step", "integrate", "limit_steering", "ramp_arc",
+           "ramp_step"]
 
 CRAWL_SPEED_M_S = 2.0
 """Default speed of the steering point for design checks (walking pace, no dynamics)."""
@@ -47,7 +52,7 @@ def curvature_from_steer(phi_rad: ArrayLike, wheelbase_m: ArrayLike) -> FloatArr
     >>> round(float(curvature_from_steer(math.atan(0.5), 3.0)), 6)  # rho = 6 m
     0.166667
     """
-    return np.tan(np.asarray(phi_rad, dtype=float)) / np.asarray(wheelbase_m, dtype=float)
+    return np.tan(np.asarray(phi_rad, dtype=np.float64)) / np.asarray(wheelbase_m, dtype=np.float64)
 
 
 def arc_step(
@@ -101,10 +106,10 @@ def arc_step(
     >>> round(float(x), 9), round(float(y), 9), round(float(th), 9)
     (6.0, 6.0, 1.570796327)
     """
-    x = np.asarray(x_m, dtype=float)
-    y = np.asarray(y_m, dtype=float)
-    theta = np.asarray(theta_rad, dtype=float)
-    ds = np.asarray(speed_m_s, dtype=float) * np.asarray(dt_s, dtype=float)
+    x = np.asarray(x_m, dtype=np.float64)
+    y = np.asarray(y_m, dtype=np.float64)
+    theta = np.asarray(theta_rad, dtype=np.float64)
+    ds = np.asarray(speed_m_s, dtype=np.float64) * np.asarray(dt_s, dtype=np.float64)
     dtheta = curvature_from_steer(phi_rad, wheelbase_m) * ds
     half = 0.5 * dtheta
     chord = ds * np.sinc(half / np.pi)
@@ -154,14 +159,14 @@ def ramp_arc(
     >>> [float(v) for v in ramp_arc(0.0, 0.0, 3.0, 1.5, front_steered=False)]
     [1.5, 0.0]
     """
-    p0 = np.asarray(phi0_rad, dtype=float)
-    p1 = np.asarray(phi1_rad, dtype=float)
+    p0 = np.asarray(phi0_rad, dtype=np.float64)
+    p1 = np.asarray(phi1_rad, dtype=np.float64)
     pm = 0.5 * (p0 + p1)
-    d = np.asarray(distance_m, dtype=float)
-    l = np.asarray(wheelbase_m, dtype=float)  # noqa: E741
+    d = np.asarray(distance_m, dtype=np.float64)
+    l = np.asarray(wheelbase_m, dtype=np.float64)  # noqa: E741
     front = np.asarray(front_steered, dtype=bool)
 
-    def simpson(f):  # noqa: ANN001, ANN202 - a ufunc
+    def simpson(f: Callable[[FloatArray], FloatArray]) -> FloatArray:
         return (f(p0) + 4.0 * f(pm) + f(p1)) / 6.0
 
     ds = np.where(front, d * simpson(np.cos), d)
@@ -201,12 +206,12 @@ def ramp_step(
     [2.0, 0.0, 0.0]
     """
     ds, dtheta = ramp_arc(phi0_rad, phi1_rad, wheelbase_m, distance_m, front_steered)
-    theta = np.asarray(theta_rad, dtype=float)
+    theta = np.asarray(theta_rad, dtype=np.float64)
     half = 0.5 * dtheta
     chord = ds * np.sinc(half / np.pi)
     mid = theta + half
-    return (np.asarray(x_m, dtype=float) + chord * np.cos(mid),
-            np.asarray(y_m, dtype=float) + chord * np.sin(mid), theta + dtheta)
+    return (np.asarray(x_m, dtype=np.float64) + chord * np.cos(mid),
+            np.asarray(y_m, dtype=np.float64) + chord * np.sin(mid), theta + dtheta)
 
 
 def euler_step(
@@ -238,10 +243,10 @@ def euler_step(
     >>> float(x), float(y), round(float(th), 6)
     (1.0, 0.0, 0.166667)
     """
-    x = np.asarray(x_m, dtype=float)
-    y = np.asarray(y_m, dtype=float)
-    theta = np.asarray(theta_rad, dtype=float)
-    ds = np.asarray(speed_m_s, dtype=float) * np.asarray(dt_s, dtype=float)
+    x = np.asarray(x_m, dtype=np.float64)
+    y = np.asarray(y_m, dtype=np.float64)
+    theta = np.asarray(theta_rad, dtype=np.float64)
+    ds = np.asarray(speed_m_s, dtype=np.float64) * np.asarray(dt_s, dtype=np.float64)
     dtheta = curvature_from_steer(phi_rad, wheelbase_m) * ds
     return x + ds * np.cos(theta), y + ds * np.sin(theta), theta + dtheta
 
@@ -298,7 +303,7 @@ def integrate(
     if step is None:
         raise InputError(f"integrate: method must be 'arc' or 'euler', got {method!r}")
     x, y, th, v, phi, wb = np.broadcast_arrays(
-        *(np.asarray(a, dtype=float) for a in (x0_m, y0_m, theta0_rad, speed_m_s, phi_rad,
+        *(np.asarray(a, dtype=np.float64) for a in (x0_m, y0_m, theta0_rad, speed_m_s, phi_rad,
                                                  wheelbase_m))
     )
     out = np.empty((3, n_steps + 1) + x.shape)
@@ -336,11 +341,12 @@ def limit_steering(
     >>> float(limit_steering(0.59, 0.9, 0.6, math.inf, 0.05))
     0.6
     """
-    prev = np.asarray(phi_prev_rad, dtype=float)
-    max_change = np.asarray(max_steer_rate_rad_s, dtype=float) * np.asarray(dt_s, dtype=float)
-    lock = np.asarray(max_steer_rad, dtype=float)
+    prev = np.asarray(phi_prev_rad, dtype=np.float64)
+    max_change = (np.asarray(max_steer_rate_rad_s, dtype=np.float64)
+                  * np.asarray(dt_s, dtype=np.float64))
+    lock = np.asarray(max_steer_rad, dtype=np.float64)
     # np.minimum / np.maximum: np.clip's overhead dominates on the model's small arrays
-    change = np.minimum(np.maximum(np.asarray(phi_cmd_rad, dtype=float) - prev, -max_change),
+    change = np.minimum(np.maximum(np.asarray(phi_cmd_rad, dtype=np.float64) - prev, -max_change),
                         max_change)
     return np.minimum(np.maximum(prev + change, -lock), lock)
 
@@ -377,8 +383,8 @@ class SpeedProfile:
     def __post_init__(self) -> None:
         if self.by not in ("station", "time"):
             raise InputError(f"speed profile: 'by' must be 'station' or 'time', got {self.by!r}")
-        at = np.asarray(self.at, dtype=float)
-        v = np.asarray(self.speed_m_s, dtype=float)
+        at = np.asarray(self.at, dtype=np.float64)
+        v = np.asarray(self.speed_m_s, dtype=np.float64)
         if at.ndim != 1 or at.shape != v.shape or at.size == 0:
             raise InputError(
                 f"speed profile: breakpoints and speeds must be equal-length, non-empty "
@@ -412,7 +418,7 @@ class SpeedProfile:
     def speed(self, station_m: ArrayLike, time_s: ArrayLike) -> FloatArray:
         """Speed (m/s) at the given stations or times (whichever ``by`` names)."""
         where = station_m if self.by == "station" else time_s
-        return np.interp(np.asarray(where, dtype=float), self.at, self.speed_m_s)
+        return np.interp(np.asarray(where, dtype=np.float64), self.at, self.speed_m_s)
 
 
 def as_speed_profile(speed: float | SpeedProfile) -> SpeedProfile:

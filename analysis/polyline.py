@@ -25,6 +25,9 @@ from numpy.typing import ArrayLike, NDArray
 from analysis.kernels import project_near
 from vehicles.errors import InputError
 
+__all__ = ["DEFAULT_SPACING_M", "Path", "SMOOTH_SIGMA_M", "catmull_rom", "fit_circle",
+           "prepare_path", "project_window", "smooth_polyline"]
+
 FloatArray = NDArray[np.float64]
 IntArray = NDArray[np.intp]
 
@@ -74,7 +77,7 @@ class Path:
         >>> float(p.heading_at(5.0))
         0.0
         """
-        return np.interp(np.asarray(station_m, dtype=float), self.station_m, self.heading_rad)
+        return np.interp(np.asarray(station_m, dtype=np.float64), self.station_m, self.heading_rad)
 
     def point_at(self, station_m: ArrayLike) -> FloatArray:
         """Points ``(..., 2)`` at the given stations (clamped to the ends).
@@ -85,7 +88,7 @@ class Path:
         >>> p.point_at(2.5).tolist()
         [2.5, 0.0]
         """
-        s = np.asarray(station_m, dtype=float)
+        s = np.asarray(station_m, dtype=np.float64)
         xs = np.interp(s, self.station_m, self.xy[:, 0])
         return np.stack([xs, np.interp(s, self.station_m, self.xy[:, 1])], axis=-1)
 
@@ -138,7 +141,7 @@ def _phantom(p: np.ndarray) -> np.ndarray:
     a, b = math.hypot(*d1), math.hypot(*d2)
     back = _arc_weight(p) * _turn(d1, d2) * 2 * a / (a + b)  # the phantom chord turns back
     c, s = math.cos(back), math.sin(back)
-    out = 2 * p[0] - p[1]  # z (a third column) goes on linearly
+    out: np.ndarray = 2 * p[0] - p[1]  # z (a third column) goes on linearly
     out[:2] = p[0, :2] - np.array([c * d1[0] + s * d1[1], -s * d1[0] + c * d1[1]])
     return out
 
@@ -171,7 +174,7 @@ def catmull_rom(points: ArrayLike, spacing_m: float) -> np.ndarray:
     >>> float(np.abs(s[:, 1]).max()), s[-1].tolist()
     (0.0, [10.0, 0.0])
     """
-    pts = np.asarray(points, dtype=float)
+    pts = np.asarray(points, dtype=np.float64)
     if len(pts) < 3:
         return pts
     # phantom end points continue the end chords, turning like the curve there
@@ -223,8 +226,8 @@ def _end_tangent(d: np.ndarray) -> np.ndarray:
     u = d @ far
     v = d @ np.array([-far[1], far[0]])
     c1 = np.linalg.lstsq(np.c_[u, u * u + v * v], v, rcond=None)[0][0]
-    t = far + c1 * np.array([-far[1], far[0]])
-    return t / np.hypot(*t)
+    t: np.ndarray = far + c1 * np.array([-far[1], far[0]])
+    return t / float(np.hypot(*t))
 
 
 def smooth_polyline(points: ArrayLike, spacing_m: float, sigma_m: float = SMOOTH_SIGMA_M
@@ -259,7 +262,7 @@ def smooth_polyline(points: ArrayLike, spacing_m: float, sigma_m: float = SMOOTH
     >>> smooth_polyline([(0.0, 0.0), (10.0, 0.0)], 1.0)[:, 1].tolist() == [0.0] * 11
     True
     """
-    vertices = np.asarray(points, dtype=float)
+    vertices = np.asarray(points, dtype=np.float64)
     # at an end that is a piece of arc the mirror's normal is a fitted circle's (SUMO's 1 cm
     # rounding tilts a short end chord); elsewhere the line's own, from the last 0.2 m
     arc_end = (_arc_weight(vertices), _arc_weight(vertices[::-1]))
@@ -306,7 +309,9 @@ def smooth_polyline(points: ArrayLike, spacing_m: float, sigma_m: float = SMOOTH
                                 for j in range(a.shape[1])])
 
     once = blur(res)
-    return 2 * once - blur(once)  # twice once less twice: no shrink of curves to first order
+    # twice once less twice: no shrink of curves to first order
+    smooth: np.ndarray = 2 * once - blur(once)
+    return smooth
 
 
 def prepare_path(
@@ -351,7 +356,7 @@ def prepare_path(
     0.1
     """
     try:
-        pts = np.asarray(points, dtype=float)
+        pts = np.asarray(points, dtype=np.float64)
     except (TypeError, ValueError) as exc:
         raise InputError(f"{name}: centre line is not an array of numbers ({exc})") from None
     if pts.ndim != 2 or pts.shape[1] not in (2, 3):
@@ -443,8 +448,9 @@ def project_window(
     >>> int(seg[0]), float(along[0]), float(lat[0])
     (1, 0.5, -0.2)
     """
-    seg, along, lateral = project_near(np.asarray(px, dtype=float), np.asarray(py, dtype=float),
-                                       np.ascontiguousarray(path_xy, dtype=float),
+    seg, along, lateral = project_near(np.asarray(px, dtype=np.float64),
+                                       np.asarray(py, dtype=np.float64),
+                                       np.ascontiguousarray(path_xy, dtype=np.float64),
                                        np.asarray(n_points, dtype=np.int64),
                                        np.asarray(segment, dtype=np.int64), int(window))
     return seg.astype(np.intp), along, lateral
@@ -478,8 +484,8 @@ def fit_circle(x: ArrayLike, y: ArrayLike) -> tuple[float, float, float]:
     ...
     vehicles.errors.InputError: fit_circle: the points are (nearly) collinear; no finite circle
     """
-    xs = np.asarray(x, dtype=float).ravel()
-    ys = np.asarray(y, dtype=float).ravel()
+    xs = np.asarray(x, dtype=np.float64).ravel()
+    ys = np.asarray(y, dtype=np.float64).ravel()
     if xs.size < 3 or xs.size != ys.size:
         raise InputError("fit_circle: needs at least three (x, y) points of equal count")
     mx, my = xs.mean(), ys.mean()

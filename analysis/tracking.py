@@ -76,7 +76,7 @@ and returns one :class:`TrackingRun` per pair.
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -88,6 +88,9 @@ from analysis.tracking_loop import run_loop
 from analysis.trailer import steady_articulation_rad, trailer_axle_point
 from vehicles.errors import InputError
 from vehicles.vehicle import Vehicle
+
+__all__ = ["MAX_COMMAND_RAD", "SOFT_SPEED_M_S", "TrackingRun", "TrackingSettings", "Trajectory",
+           "check_vehicle", "simulate", "simulate_batch", "simulate_grid", "start_pose"]
 
 FloatArray = NDArray[np.float64]
 
@@ -269,7 +272,7 @@ def check_vehicle(vehicle: Vehicle) -> None:
     if vehicle.steered_axle == "rear" and vehicle.trailer is not None:
         raise InputError(f"{name}: a rear-steered vehicle towing a trailer is not supported "
                          "(its hitch would slide sideways with the steered axle)")
-    checks = [
+    checks: list[tuple[str, float, Callable[[float], bool]]] = [
         ("wheelbase_m", vehicle.wheelbase_m, lambda v: v > 0),
         ("track_m", vehicle.track_m, lambda v: v >= 0),
         ("width_m", vehicle.width_m, lambda v: v > 0),
@@ -551,7 +554,7 @@ def _collect(
             f"{st.tolerance_m:.2f} m) at station {s[worst]:.1f} m"
             + (f"; run stopped beyond {abort_m:.2f} m" if aborted else "")
         )
-    if jackknifed:
+    if jackknifed and trailer is not None:  # psi_max is infinite without a trailer
         reasons.append(
             f"the articulation exceeded the trailer's maximum "
             f"{math.degrees(trailer.max_articulation_rad):.0f} deg at t = {jack_t:.2f} s"

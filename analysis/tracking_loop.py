@@ -21,6 +21,9 @@ from numba import njit
 
 from analysis.kernels import project_near
 
+__all__ = ["APPROACH_SHARE", "RECORD", "approach_angle", "articulation_one", "limit_one",
+           "predictive_stanley", "ramp_step_one", "run_loop", "stanley_residual"]
+
 #: Row of each recorded quantity in the loop's ``(9, steps, runs)`` record.
 RECORD = ("t_s", "s_m", "x_m", "y_m", "theta_rad", "phi_rad", "error_m", "speed_m_s",
           "psi_rad")
@@ -108,16 +111,16 @@ def _heading_at(s: float, station: np.ndarray, heading: np.ndarray,
                 n_pts: int) -> float:  # pragma: no cover - compiled
     # the stations are uniform but for the last step: index by the first spacing
     if s <= 0.0:
-        return heading[0]
+        return float(heading[0])
     if s >= station[n_pts - 1]:
-        return heading[n_pts - 1]
+        return float(heading[n_pts - 1])
     j = min(int(s / (station[1] - station[0])), n_pts - 2)
     while j > 0 and station[j] > s:
         j -= 1
     while j < n_pts - 2 and station[j + 1] < s:
         j += 1
     f = (s - station[j]) / (station[j + 1] - station[j])
-    return heading[j] + f * (heading[j + 1] - heading[j])
+    return float(heading[j] + f * (heading[j + 1] - heading[j]))
 
 
 @njit(cache=True)
@@ -264,7 +267,8 @@ def run_loop(
     prof_at: np.ndarray, prof_speed: np.ndarray, by_station: bool,
     dt: float, gain: float, soft_speed: float, max_command: float, abort_m: float,
     window: int, max_steps: int, substeps: int,
-):  # pragma: no cover - compiled
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray,
+           np.ndarray]:  # pragma: no cover - compiled
     """Advance every run until it reaches its path's end, aborts, jackknifes or runs out.
 
     The state arrays (``x, y, th, phi, psi``) are the runs' initial states, advanced in

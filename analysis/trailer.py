@@ -50,6 +50,9 @@ from numpy.typing import ArrayLike, NDArray
 
 from vehicles.errors import InputError
 
+__all__ = ["advance_articulation", "hitch_point", "steady_articulation_rad",
+           "steady_trailer_radius_m", "trailer_axle_point", "trailer_heading_rate"]
+
 FloatArray = NDArray[np.float64]
 
 
@@ -90,12 +93,12 @@ def trailer_heading_rate(
     >>> round(float(trailer_heading_rate(2.0, 0.0, np.pi / 2, 4.0, 0.0, 10.0)), 12)
     0.2
     """
-    psi = np.asarray(psi_rad, dtype=float)
-    k = np.tan(np.asarray(phi_rad, dtype=float)) / np.asarray(wheelbase_m, dtype=float)
-    e = np.asarray(hitch_offset_m, dtype=float)
-    return (np.asarray(speed_m_s, dtype=float) / np.asarray(trailer_wheelbase_m, dtype=float)) * (
-        np.sin(psi) - e * k * np.cos(psi)
-    )
+    psi = np.asarray(psi_rad, dtype=np.float64)
+    k = np.tan(np.asarray(phi_rad, dtype=np.float64)) / np.asarray(wheelbase_m, dtype=np.float64)
+    e = np.asarray(hitch_offset_m, dtype=np.float64)
+    v = np.asarray(speed_m_s, dtype=np.float64)
+    lt = np.asarray(trailer_wheelbase_m, dtype=np.float64)
+    return (v / lt) * (np.sin(psi) - e * k * np.cos(psi))
 
 
 def _dpsi_ds(psi: FloatArray, k: FloatArray, e: FloatArray, lt: FloatArray) -> FloatArray:
@@ -134,11 +137,11 @@ def advance_articulation(
     """
     if substeps < 1:
         raise InputError(f"advance_articulation: substeps must be >= 1, got {substeps!r}")
-    psi = np.asarray(psi_rad, dtype=float)
-    k = np.asarray(curvature_1_m, dtype=float)
-    e = np.asarray(hitch_offset_m, dtype=float)
-    lt = np.asarray(trailer_wheelbase_m, dtype=float)
-    h = np.asarray(ds_m, dtype=float) / substeps
+    psi = np.asarray(psi_rad, dtype=np.float64)
+    k = np.asarray(curvature_1_m, dtype=np.float64)
+    e = np.asarray(hitch_offset_m, dtype=np.float64)
+    lt = np.asarray(trailer_wheelbase_m, dtype=np.float64)
+    h = np.asarray(ds_m, dtype=np.float64) / substeps
     for _ in range(substeps):
         k1 = _dpsi_ds(psi, k, e, lt)
         k2 = _dpsi_ds(psi + 0.5 * h * k1, k, e, lt)
@@ -159,10 +162,10 @@ def hitch_point(
     >>> float(hx), float(hy)
     (9.0, 5.0)
     """
-    theta = np.asarray(theta_rad, dtype=float)
-    e = np.asarray(hitch_offset_m, dtype=float)
-    return (np.asarray(x_m, dtype=float) - e * np.cos(theta),
-            np.asarray(y_m, dtype=float) - e * np.sin(theta))
+    theta = np.asarray(theta_rad, dtype=np.float64)
+    e = np.asarray(hitch_offset_m, dtype=np.float64)
+    return (np.asarray(x_m, dtype=np.float64) - e * np.cos(theta),
+            np.asarray(y_m, dtype=np.float64) - e * np.sin(theta))
 
 
 def trailer_axle_point(
@@ -184,8 +187,8 @@ def trailer_axle_point(
     (-9.5, 0.0)
     """
     hx, hy = hitch_point(x_m, y_m, theta_rad, hitch_offset_m)
-    tt = np.asarray(trailer_theta_rad, dtype=float)
-    lt = np.asarray(trailer_wheelbase_m, dtype=float)
+    tt = np.asarray(trailer_theta_rad, dtype=np.float64)
+    lt = np.asarray(trailer_wheelbase_m, dtype=np.float64)
     return hx - lt * np.cos(tt), hy - lt * np.sin(tt)
 
 
@@ -206,16 +209,17 @@ def steady_articulation_rad(
     >>> round(float(np.degrees(steady_articulation_rad(-10.0, 0.0, 5.0))), 9)
     -30.0
     """
-    rho = np.asarray(rho_m, dtype=float)
-    e = np.asarray(hitch_offset_m, dtype=float)
-    lt = np.asarray(trailer_wheelbase_m, dtype=float)
+    rho = np.asarray(rho_m, dtype=np.float64)
+    e = np.asarray(hitch_offset_m, dtype=np.float64)
+    lt = np.asarray(trailer_wheelbase_m, dtype=np.float64)
     r = np.abs(rho)
     with np.errstate(invalid="ignore", divide="ignore"):
         rh = np.hypot(r, e)
         ratio = np.where(rh > lt, lt / rh, np.nan)
         psi = np.arctan2(e, r) + np.arcsin(ratio)
     psi = np.where(np.isinf(r), 0.0, psi)
-    return np.sign(rho) * psi
+    out: FloatArray = np.sign(rho) * psi
+    return out
 
 
 def steady_trailer_radius_m(
@@ -232,9 +236,9 @@ def steady_trailer_radius_m(
     >>> float(steady_trailer_radius_m(3.0, 0.0, 5.0))
     nan
     """
-    rho = np.asarray(rho_m, dtype=float)
-    e = np.asarray(hitch_offset_m, dtype=float)
-    lt = np.asarray(trailer_wheelbase_m, dtype=float)
+    rho = np.asarray(rho_m, dtype=np.float64)
+    e = np.asarray(hitch_offset_m, dtype=np.float64)
+    lt = np.asarray(trailer_wheelbase_m, dtype=np.float64)
     sq = rho * rho + e * e - lt * lt
     with np.errstate(invalid="ignore"):
         return np.where(sq > 0, np.sqrt(np.where(sq > 0, sq, 0.0)), np.nan)

@@ -17,6 +17,10 @@ from numpy.typing import ArrayLike, NDArray
 from analysis.control_law import safe_pathway, theta_of_rho
 from vehicles.table import VehicleTable, steering_from_row
 
+__all__ = ["INPUT_COLUMNS", "ackermann_angle_at_lock", "articulation_limited_rho",
+           "centre_line_radius", "curb_to_curb", "full_lock_metrics", "inside_radius",
+           "steering_sweep", "trailer_steady_state", "turning_metrics", "wall_to_wall"]
+
 FloatArray = NDArray[np.float64]
 
 #: Columns :func:`full_lock_metrics` needs in its input frame.
@@ -34,7 +38,7 @@ def centre_line_radius(rho: ArrayLike, wheelbase_m: ArrayLike) -> FloatArray:
     >>> float(centre_line_radius(np.inf, 2.7))                             # straight ahead
     inf
     """
-    return np.hypot(np.asarray(rho, dtype=float), np.asarray(wheelbase_m, dtype=float))
+    return np.hypot(np.asarray(rho, dtype=np.float64), np.asarray(wheelbase_m, dtype=np.float64))
 
 
 def curb_to_curb(rho: ArrayLike, wheelbase_m: ArrayLike, track_m: ArrayLike) -> FloatArray:
@@ -45,8 +49,8 @@ def curb_to_curb(rho: ArrayLike, wheelbase_m: ArrayLike, track_m: ArrayLike) -> 
     >>> round(float(curb_to_curb(5.0, 0.0, 1.5)), 9)   # zero wheelbase: a circle of rho + w/2
     11.5
     """
-    r = np.asarray(rho, dtype=float) + np.asarray(track_m, dtype=float) / 2
-    return 2 * np.hypot(r, np.asarray(wheelbase_m, dtype=float))
+    r = np.asarray(rho, dtype=np.float64) + np.asarray(track_m, dtype=np.float64) / 2
+    return 2 * np.hypot(r, np.asarray(wheelbase_m, dtype=np.float64))
 
 
 def wall_to_wall(
@@ -61,8 +65,8 @@ def wall_to_wall(
     >>> round(float(wall_to_wall(5.0, 0.0, 2.0, 0.0)), 9)   # no reach: a circle of rho + B/2
     12.0
     """
-    r = np.asarray(rho, dtype=float) + np.asarray(width_m, dtype=float) / 2
-    reach = np.asarray(wheelbase_m, dtype=float) + np.asarray(overhang_m, dtype=float)
+    r = np.asarray(rho, dtype=np.float64) + np.asarray(width_m, dtype=np.float64) / 2
+    reach = np.asarray(wheelbase_m, dtype=np.float64) + np.asarray(overhang_m, dtype=np.float64)
     return 2 * np.hypot(r, reach)
 
 
@@ -74,7 +78,7 @@ def inside_radius(rho: ArrayLike, width_m: ArrayLike) -> FloatArray:
     >>> round(float(inside_radius(np.sqrt(38.0**2 - 20.0**2), 8.0)), 1)   # AASHTO SU-30, ft
     28.3
     """
-    return np.asarray(rho, dtype=float) - np.asarray(width_m, dtype=float) / 2
+    return np.asarray(rho, dtype=np.float64) - np.asarray(width_m, dtype=np.float64) / 2
 
 
 def trailer_steady_state(
@@ -97,9 +101,9 @@ def trailer_steady_state(
     >>> round(float(r), 9), round(float(np.degrees(psi)), 4)
     (10.908712115, 24.6243)
     """
-    r = np.asarray(rho, dtype=float)
-    e = np.asarray(hitch_offset_m, dtype=float)
-    lt = np.asarray(trailer_wheelbase_m, dtype=float)
+    r = np.asarray(rho, dtype=np.float64)
+    e = np.asarray(hitch_offset_m, dtype=np.float64)
+    lt = np.asarray(trailer_wheelbase_m, dtype=np.float64)
     with np.errstate(invalid="ignore"):
         hitch = np.hypot(r, e)
         radius = np.sqrt(hitch**2 - lt**2)
@@ -121,9 +125,9 @@ def articulation_limited_rho(
     >>> round(float(rho), 3)
     12.0
     """
-    psi = np.asarray(max_articulation_rad, dtype=float)
-    e = np.asarray(hitch_offset_m, dtype=float)
-    lt = np.asarray(trailer_wheelbase_m, dtype=float)
+    psi = np.asarray(max_articulation_rad, dtype=np.float64)
+    e = np.asarray(hitch_offset_m, dtype=np.float64)
+    lt = np.asarray(trailer_wheelbase_m, dtype=np.float64)
     return (lt + e * np.cos(psi)) / np.sin(psi)
 
 

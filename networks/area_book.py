@@ -25,6 +25,8 @@ from collections.abc import Iterator, Sequence
 from networks.area_groups import AreaCurve, AreaIndex
 from networks.reader import Network
 
+__all__ = ["AreaBook", "BATCH_CURVES", "MAX_BATCHES"]
+
 #: Curves per batch (a batch ends at the first change of junction after this many).
 BATCH_CURVES = 8192
 

@@ -31,6 +31,8 @@ import numpy as np
 from networks.paths import junction_of_internal, via_lanes
 from networks.reader import ROAD_VCLASSES, Network
 
+__all__ = ["AreaCurve", "AreaIndex", "BatchPlan", "is_road", "junctions_of", "plain_edges_of"]
+
 
 class AreaCurve(Protocol):
     """What building a curve's areas needs of it (:class:`networks.curves.Curve` has it):
@@ -302,9 +304,9 @@ class BatchPlan:
     def _roadway(self, curve: AreaCurve, plain: tuple[str, ...]) -> int:
         hit = self._road_pieces.get(plain)
         if hit is None:
-            keys = [self.edge_piece(e, True) for e in plain]
-            keys += [self.movement_piece(a, b) for a, b in zip(plain, plain[1:], strict=False)]
-            found = [k for k in keys if k]
+            pieces = [self.edge_piece(e, True) for e in plain]
+            pieces += [self.movement_piece(a, b) for a, b in zip(plain, plain[1:], strict=False)]
+            found = [k for k in pieces if k]
             covered: set[str] = set()
             for k in found:
                 covered.update(self.pieces[k])

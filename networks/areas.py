@@ -47,7 +47,7 @@ centimetres.
 from __future__ import annotations
 
 from collections.abc import Sequence
-from typing import NamedTuple
+from typing import Literal, NamedTuple, cast
 
 import numpy as np
 import shapely
@@ -56,6 +56,10 @@ from analysis.polyline import DEFAULT_SPACING_M, prepare_path
 from networks.area_groups import AreaCurve, AreaIndex, BatchPlan
 from networks.reader import Network, gc_paused
 from vehicles.errors import InputError
+
+__all__ = ["CapStyle", "DESIGNED_TOLERANCE_M", "Job", "MIN_HOLE_M2", "PAIRWISE_MAX", "SEAL_M",
+           "attach_areas", "build_areas", "covering_paved", "designed_line", "junction_polygons",
+           "lane_polygons", "make_job", "run_job"]
 
 #: The polygons ``roadway`` and ``paved`` are made of are grown by this much (metres), so
 #: that they overlap where they would touch: a union of touching polygons can keep hairline
@@ -66,10 +70,12 @@ SEAL_M = 1e-3
 #: not islands, and are filled (a traffic island is several square metres).
 MIN_HOLE_M2 = 1.0
 
+#: The ends of a lane polygon (shapely's cap styles).
+CapStyle = Literal["round", "flat", "square"]
 
 
 def lane_polygons(
-    net: Network, lane_ids: Sequence[str], cap_style: str = "flat", grow_m: float = 0.0
+    net: Network, lane_ids: Sequence[str], cap_style: CapStyle = "flat", grow_m: float = 0.0
 ) -> np.ndarray:
     """Polygons of lanes: each shape buffered by half its width (vectorised).
 
@@ -105,7 +111,7 @@ def _lane_arrays(
 
 
 def _lane_polygons(
-    points: np.ndarray, counts: np.ndarray, radius: np.ndarray, cap_style: str
+    points: np.ndarray, counts: np.ndarray, radius: np.ndarray, cap_style: CapStyle
 ) -> np.ndarray:
     """:func:`lane_polygons` of lanes given as points (lane after lane), point counts and
     buffer radii."""
@@ -230,7 +236,8 @@ def _seal(areas: np.ndarray) -> np.ndarray:
 
 
 def _union_all_rows(table: np.ndarray) -> np.ndarray:
-    return shapely.union_all(table, axis=1)
+    # a 2-d table with an axis gives an array, one union per row
+    return cast("np.ndarray", shapely.union_all(table, axis=1))
 
 
 def _pairwise_rows(table: np.ndarray) -> np.ndarray:

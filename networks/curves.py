@@ -58,6 +58,10 @@ from vehicles.errors import InputError
 if TYPE_CHECKING:
     from networks.area_book import AreaBook
 
+__all__ = ["Curve", "CurveOptions", "DEFAULT_KINDS", "Item", "KINDS", "LEAD_KEEP_M",
+           "LEAD_MIN_RADIUS_M", "MEASURE_BATCH", "extract_curves", "find_bends", "find_ramps",
+           "find_roundabouts", "find_turns", "make_curve", "measure", "permits", "permitted_lanes"]
+
 log = logging.getLogger(__name__)
 
 KINDS = ("turn", "uturn", "roundabout", "ramp", "bend")

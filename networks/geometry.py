@@ -17,6 +17,10 @@ import numpy as np
 
 from networks.profiles import profiles
 
+__all__ = ["MIN_CHORD_M", "arc_length", "chord_headings", "clean_polyline", "curvature_profile",
+           "cut_polyline", "grades_pct", "heading_at", "heading_rad_to_navigational",
+           "navigational_to_heading_rad", "radius_from_curvature", "signed_turn_deg", "unwrap"]
+
 #: Chords shorter than this (metres) are dropped before computing headings.
 MIN_CHORD_M = 1e-6
 

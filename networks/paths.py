@@ -18,6 +18,10 @@ import numpy as np
 from networks.geometry import MIN_CHORD_M
 from networks.reader import ROAD_VCLASSES, Connection, Network
 
+__all__ = ["EXTEND_DIRECTIONS", "MAX_EXTENSION_LANES", "NOT_ROADS", "Path", "PathPlan",
+           "build_path", "drivable", "extend_back", "extend_forward", "junction_of_internal",
+           "lane_length", "plan_path", "realise", "via_lanes"]
+
 #: Preference among connection directions when a path is extended (straight on first).
 _DIR_RANK = {"s": 0, "R": 1, "L": 2, "r": 3, "l": 4, "t": 6}
 

@@ -11,6 +11,9 @@ import shapely
 from networks.areas import lane_polygons
 from networks.reader import Network, read_network
 
+__all__ = ["EDGE_OF_PAVEMENT", "JUNCTION", "LANE_LINE", "MAX_MARKED_LANES", "NON_ROAD", "PAVEMENT",
+           "fill_geometry", "nice_scale_m", "pavement_area", "plot_plan", "save_plan"]
+
 
 def nice_scale_m(span_m: float) -> float:
     """A round scale-bar length of about a fifth of ``span_m`` (1, 2, 5 × 10^k metres).

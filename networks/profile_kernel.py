@@ -29,6 +29,8 @@ import math
 import numpy as np
 from numba import njit
 
+__all__ = ["GAP_M", "chord_frame", "station_profiles"]
+
 #: Key distance between consecutive lines of a chunk (metres; see :func:`chord_frame`).
 GAP_M = 10.0
 

@@ -24,6 +24,8 @@ import numpy as np
 from networks.profile_kernel import chord_frame, station_profiles
 from networks.reader import gc_paused
 
+__all__ = ["CHUNK_LINES", "MAX_WINDOW_M", "MIN_CHORD_M", "Profiles", "Stations", "profiles"]
+
 #: Chords shorter than this (m) are extended before headings are taken.
 MIN_CHORD_M = 1.5
 
@@ -49,7 +51,7 @@ class Stations(NamedTuple):
 
     start_m: float
     stop_m: float
-    count: int
+    count: int  # type: ignore[assignment]  # the field shadows tuple.count, on purpose
     step_m: float
 
     def array(self) -> np.ndarray:

@@ -20,7 +20,7 @@ import logging
 import math
 import os
 from collections import defaultdict
-from collections.abc import Iterator
+from collections.abc import Iterator, Mapping
 from contextlib import contextmanager
 from dataclasses import dataclass, field
 from functools import partial
@@ -28,7 +28,7 @@ from itertools import islice, repeat
 from operator import attrgetter, itemgetter
 from pathlib import Path
 from sys import intern
-from typing import NamedTuple
+from typing import TYPE_CHECKING, NamedTuple, cast
 
 import numpy as np
 from lxml import etree
@@ -43,6 +43,14 @@ from networks.safe_xml import (
 )
 from networks.shapes import EMPTY_SHAPE, MAX_COORD_M, parse_shapes
 from vehicles.errors import InputError
+
+if TYPE_CHECKING:  # names of the lxml stubs only, not of lxml itself
+    from lxml.etree._parser import CustomTargetParser
+    from lxml.etree._saxparser import ParserTarget
+
+__all__ = ["Connection", "DEFAULT_LANE_WIDTH_M", "Edge", "Junction", "Lane", "Location",
+           "MAX_LANE_WIDTH_M", "Network", "ROAD_VCLASSES", "Roundabout", "SUMO_VCLASSES",
+           "check_references", "gc_paused", "make_parser", "read_network", "resolve_allowed"]
 
 log = logging.getLogger(__name__)
 
@@ -261,7 +269,7 @@ def read_network(path: str | os.PathLike[str]) -> Network:
         return state.finish()
 
 
-def make_parser(state: _ParseState) -> etree.XMLParser:
+def make_parser(state: _ParseState) -> CustomTargetParser[None]:
     """lxml's target parser feeding ``state``: no entities, no network, no DTD, no tree.
 
     ``collect_ids`` keeps its default on purpose: ``collect_ids=False`` makes lxml set
@@ -270,8 +278,10 @@ def make_parser(state: _ParseState) -> etree.XMLParser:
     ``<!DOCTYPE net SYSTEM "fifo">`` then hung the reader). A target parser builds no tree,
     so there are no ids to collect anyway.
     """
+    # lxml looks the target's methods up by name and calls only those it has; the stubs'
+    # ParserTarget protocol lists them all (comment, pi, doctype, ...), hence the cast.
     return etree.XMLParser(
-        target=state,
+        target=cast("ParserTarget[None]", state),
         resolve_entities=False,
         no_network=True,
         load_dtd=False,
@@ -505,10 +515,11 @@ class _ParseState:
     def settle_shapes(self) -> None:
         """Parse the shape strings read since the last call into the lanes' and junctions'
         arrays (in bulk, :func:`parse_shapes`)."""
-        for what, items, shapes, done in (
+        groups: tuple[tuple[str, Mapping[str, Lane | Junction], list[str], int], ...] = (
             ("lane", self.lanes, self.lane_shapes, self.lanes_settled),
             ("junction", self.junctions, self.junction_shapes, self.junctions_settled),
-        ):
+        )
+        for what, items, shapes, done in groups:
             if len(items) - done != len(shapes):
                 raise InputError(f"{self.path}: {len(shapes) - len(items) + done} {what}(s) "
                                  "reuse an id already read")

@@ -19,6 +19,10 @@ from typing import BinaryIO
 from vehicles.errors import InputError
 from vehicles.files import env_limit, open_regular
 
+__all__ = ["DEFAULT_MAX_BYTES", "DEFAULT_MAX_ELEMENTS", "MAX_ELEMENTS_ENV", "MAX_MB_ENV",
+           "MAX_PROLOG_BYTES", "max_bytes", "max_elements", "open_binary", "read_chunks",
+           "scan_prolog", "too_big"]
+
 #: How much of the prolog (decompressed) is read at most while looking for the root element.
 MAX_PROLOG_BYTES = 4 * 1024 * 1024
 

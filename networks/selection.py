@@ -35,6 +35,9 @@ from networks.geometry import cut_polyline
 from networks.reader import Network
 from vehicles.errors import InputError
 
+__all__ = ["BBox", "Selection", "check_junctions", "feature_line", "in_bbox", "load_selected",
+           "parse_bbox", "select"]
+
 BBox = tuple[float, float, float, float]
 
 
@@ -170,9 +173,9 @@ def in_bbox(curve: Curve, bbox: BBox) -> bool:
     inside = (xy[:, 0] >= xmin) & (xy[:, 0] <= xmax) & (xy[:, 1] >= ymin) & (xy[:, 1] <= ymax)
     if inside.any():
         return True
-    from shapely import box, linestrings
+    from shapely import LineString, box
 
-    return bool(linestrings(xy).intersects(box(xmin, ymin, xmax, ymax)))
+    return bool(LineString(xy).intersects(box(xmin, ymin, xmax, ymax)))
 
 
 def select(curves: Iterable[Curve], selection: Selection) -> list[Curve]:
@@ -199,12 +202,12 @@ def load_selected(
     ever built).
     """
     selection = selection or Selection()
-    kwargs = {"kinds": selection.kinds} if selection.kinds else {}
+    kinds = selection.effective_kinds()
     if not selection.narrows:
-        return extract_curves(net, options=options, **kwargs)
+        return extract_curves(net, kinds, options=options)
     from networks.area_book import AreaBook
 
-    kept = select(extract_curves(net, options=options, areas=False, **kwargs), selection)
+    kept = select(extract_curves(net, kinds, options=options, areas=False), selection)
     if kept:
         AreaBook(net, kept)
     return kept

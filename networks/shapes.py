@@ -15,6 +15,8 @@ import numpy as np
 
 from vehicles.errors import InputError
 
+__all__ = ["EMPTY_SHAPE", "MAX_COORD_M", "parse_shape", "parse_shapes"]
+
 #: The largest coordinate accepted, in metres (after the network's ``netOffset``). No
 #: projection of the earth SUMO uses gives more (web Mercator reaches +/-2.0e7 m), and a
 #: double resolves 1.5e-8 m at 1e8 m, far finer than the millimetres a clearance is given

@@ -43,7 +43,11 @@ from analysis.polyline import prepare_path
 from networks.areas import designed_line
 from networks.curves import Curve
 from networks.geometry import arc_length, clean_polyline, curvature_profile
+from vehicles.errors import InputError
 from vehicles.vehicle import Vehicle
+
+__all__ = ["AnalyticRun", "STEP_M", "extents_m", "fill_small_holes", "minimum_ctr_m",
+           "run_analytic"]
 
 #: Stations every this many metres along the centre line.
 STEP_M = 1.0
@@ -177,7 +181,10 @@ def run_analytic(vehicle: Vehicle, curve: Curve, offset_m: float = 0.0) -> Analy
     boxes = end_boxes(path, float(np.max(inner + outer)) + offset_m + 1.0)
     measured = shapely.difference(measured, boxes)
     ignore = shapely.buffer(boxes, END_SLACK_M, quad_segs=1)
-    areas = Areas(curve.own_lanes, curve.paved, curve.roadway)
+    own, paved = curve.own_lanes, curve.paved
+    if own is None or paved is None:
+        raise InputError(f"curve {curve.curve_id}: no areas (extract curves with areas=True)")
+    areas = Areas(own, paved, curve.roadway)
     clearance = classify(measured, areas, 0.0, reason, ignore=ignore)
     width = float(np.max(inner + outer))
     r_min = max(curve.min_radius_m, min_ctr)

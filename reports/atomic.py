@@ -8,6 +8,8 @@ from pathlib import Path
 
 from vehicles.errors import InputError
 
+__all__ = ["current_umask", "write_bytes_atomic", "write_text_atomic"]
+
 
 def current_umask() -> int:
     """The process's umask (read by setting it and putting it back).
@@ -20,7 +22,7 @@ def current_umask() -> int:
     return umask
 
 
-def write_text_atomic(path: str | Path, text: str) -> Path:
+def write_text_atomic(path: str | os.PathLike[str], text: str) -> Path:
     """Write ``text`` to ``path`` through a temporary file in the same folder.
 
     An interrupted run leaves any previous file intact; never a half-written one.
@@ -28,7 +30,7 @@ def write_text_atomic(path: str | Path, text: str) -> Path:
     return write_bytes_atomic(path, text.encode("utf-8"))
 
 
-def write_bytes_atomic(path: str | Path, data: bytes) -> Path:
+def write_bytes_atomic(path: str | os.PathLike[str], data: bytes) -> Path:
     """Write ``data`` to ``path`` atomically (temporary file, fsync, rename).
 
     The file gets the permissions of the user's umask (0644 under umask 022). A failure of

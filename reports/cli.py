@@ -11,6 +11,8 @@ from importlib import import_module
 
 from vehicles.errors import InputError
 
+__all__ = ["COMMANDS", "OWN_LOGGERS", "build_parser", "main"]
+
 #: Sub-commands in the order ``clearance --help`` lists them; each names a module
 #: ``reports.cmd_<name>`` with ``add_parser(subparsers)`` and ``run(args) -> int``.
 COMMANDS = ("report", "vehicles", "curves", "simulate", "compare", "check")

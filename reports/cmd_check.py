@@ -46,6 +46,8 @@ from reports.waivers import Waived, read_waivers, study_waivers
 from vehicles.errors import InputError
 from vehicles.table import load_tables
 
+__all__ = ["ALLOWABLE", "add_parser", "run"]
+
 ALLOWABLE = ("encroaches", "fails", "cannot-turn")
 
 

@@ -18,6 +18,8 @@ from reports.options import (
 from reports.text_table import counted
 from vehicles.table import load_tables
 
+__all__ = ["add_parser", "run"]
+
 
 def add_parser(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser(

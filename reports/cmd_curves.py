@@ -17,6 +17,9 @@ from reports.options import add_net_option, add_output_option
 from reports.text_table import format_table
 from vehicles.errors import InputError
 
+__all__ = ["COLUMNS", "add_parser", "curve_row", "movement", "print_summary", "run",
+           "write_csv_atomic"]
+
 #: CSV columns, in order.
 COLUMNS = (
     "curve_id",

@@ -38,6 +38,10 @@ from reports.text_table import counted
 from reports.waivers import Waived, read_waivers, study_waivers
 from vehicles.table import bundled_table_paths, load_tables
 
+__all__ = ["DEFAULT_OUTPUT", "DRAWN_RUNS", "LAYOUT", "add_parser", "drawn_geometry",
+           "envelope_records", "export_names", "run", "sample_networks", "write_exports",
+           "write_report"]
+
 log = logging.getLogger(__name__)
 
 #: The default study's output folder, relative to where the command runs (the repository's
@@ -228,7 +232,7 @@ def run(args: argparse.Namespace) -> int:
           f"{counted(len(nets), 'network')}, {counted(curves, 'curve')}, method {args.method}) "
           f"in {time.perf_counter() - t0:.1f} s")
     print("  " + ", ".join(f"{v}: {int(counts.get(v, 0))}"
-                           for v in sorted(VERDICT_ORDER, key=VERDICT_ORDER.get)))
+                           for v in sorted(VERDICT_ORDER, key=VERDICT_ORDER.__getitem__)))
     if waived is not None:
         print(f"  waived: {counted(len(waived), 'run')}")
         for w in waived.unused:

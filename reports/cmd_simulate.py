@@ -71,6 +71,11 @@ from vehicles.errors import InputError
 from vehicles.table import load_tables
 from vehicles.vehicle import Vehicle
 
+__all__ = ["LAYOUT", "RESULT_COLUMNS", "TRAILER_COLUMNS", "TRAJECTORY_COLUMNS", "add_parser",
+           "csv_text", "drive_in_workers", "envelope_records", "print_summary", "replay_command",
+           "replay_script", "result_row", "run", "trajectory_csv", "trajectory_files",
+           "write_outputs"]
+
 #: Columns of ``results.csv``.
 RESULT_COLUMNS = (
     "vehicle",

@@ -26,6 +26,9 @@ from reports.text_table import counted
 from reports.units import to_output_units
 from vehicles.table import load_tables
 
+__all__ = ["COLUMNS", "NO_STEADY_STATE", "SHOWN", "TRAILER_COLUMNS", "add_parser", "run",
+           "steady_inside_radius", "vehicles_frame"]
+
 #: CSV columns, in this order (lengths in the chosen units, angles in degrees).
 COLUMNS = ["vehicle", "wheelbase", "track", "width", "length", "front_overhang",
            "rear_overhang", "max_steer_deg", "outer_steer_deg", "ackermann_angle_deg",

@@ -22,6 +22,9 @@ from reports.plotting import new_figure, save
 from reports.units import length_scale, to_output_units
 from vehicles.table import VehicleTable
 
+__all__ = ["COLUMNS", "COMBINATION_COLUMNS", "PANEL_LINES", "comparison_table", "panels_of",
+           "plot_rho_theta", "plot_swept_width_theta", "plot_turning_circles"]
+
 COLUMNS = ["vehicle", "category", "wheelbase", "width", "length", "max_steer_deg",
            "ackermann_angle_deg", "min_radius", "ctr", "curb_to_curb", "wall_to_wall",
            "inside_radius", "swept_width", "offtracking"]

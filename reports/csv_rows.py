@@ -16,6 +16,8 @@ from pathlib import Path
 
 from vehicles.errors import InputError
 
+__all__ = ["Row", "csv_line", "read_rows"]
+
 #: A row of a file: its line number and its fields by column name.
 Row = tuple[int, dict[str, str]]
 

@@ -27,6 +27,11 @@ from reports.text_table import counted
 from reports.units import length_scale
 from reports.waivers import Waived
 
+__all__ = ["CSS", "CurveEntry", "HTML_IMAGE_COLOURS", "HTML_IMAGE_WIDTH_PX", "MATRIX_VEHICLES",
+           "MAX_CURVE_FIGURES", "MAX_ENVELOPES", "SYMBOL", "Section", "TIGHT_M", "anchor",
+           "build_sections", "compact_png", "html_document", "margin_words", "markdown",
+           "pick_envelopes", "run_words"]
+
 #: A curve is *tight* when its smallest margin is below this (m) though clear.
 TIGHT_M = 0.25
 #: At most this many curve figures per network (the worst first): every failing or tight
@@ -90,7 +95,7 @@ def build_sections(study: Study, folder: Path, units: str = "m",
         plan = plot_network(nc, f, figs / file_name([nc.name, "plan"], room=4), units=units)[0]
         worst = worst_by_curve(f)
         counts = {v: int((f.verdict == v).sum()) for v in sorted(VERDICT_ORDER,
-                                                                   key=VERDICT_ORDER.get)
+                                                                   key=VERDICT_ORDER.__getitem__)
                   if v != "error" or (f.verdict == "error").any()}
         cells = f.assign(cell=f.verdict + "|" + (f.margin_m / scale).round(2).astype(str))
         if waived is not None:
@@ -343,8 +348,8 @@ def compact_png(png: Path, width_px: int = HTML_IMAGE_WIDTH_PX,
     """
     from PIL import Image
 
-    with Image.open(png) as im:
-        im = im.convert("RGB")
+    with Image.open(png) as opened:
+        im = opened.convert("RGB")
         if im.width > width_px:
             im = im.resize((width_px, round(im.height * width_px / im.width)),
                            Image.Resampling.LANCZOS)

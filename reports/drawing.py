@@ -27,6 +27,7 @@ import math
 import textwrap
 from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import cast
 
 import numpy as np
 import shapely
@@ -46,6 +47,11 @@ from reports.records import RunRecord
 from reports.study import NetworkCurves
 from reports.units import length_scale
 from vehicles.vehicle import Vehicle
+
+__all__ = ["BADGE", "MIN_CONFLICT_M2", "OUTSIDE_LANES", "OUTSIDE_PAVEMENT", "OWN_LANES", "Shown",
+           "VERDICT_STYLE", "badge_text", "dimension", "draw_bodies", "draw_curve", "draw_run",
+           "legend_handles", "length_text", "overreach", "rerun", "run_geometry", "stop_point",
+           "stop_words", "view_bounds"]
 
 #: Envelope outline by verdict (the verdict is told by line style and badge, not fill).
 VERDICT_STYLE = {"clear": ("-", 1.1), "encroaches": ((0, (5, 2)), 1.4),
@@ -117,7 +123,7 @@ def stop_words(run: TrackingRun, units: str = "m") -> str:
     off = length_text(run.max_error_m, units, 1)
     tol = length_text(run.settings.tolerance_m, units, 1)
     where = length_text(float(tr.s_m[worst]) if len(tr) else 0.0, units, 0)
-    if run.jackknife_time_s is not None:
+    if run.jackknife_time_s is not None and run.vehicle.trailer is not None:
         return (f"the trailer jackknifes here (articulation beyond its "
                 f"{math.degrees(run.vehicle.trailer.max_articulation_rad):.0f}° limit)")
     if run.max_error_m > run.settings.tolerance_m:
@@ -156,7 +162,7 @@ def overreach(measured: BaseGeometry, area: BaseGeometry, step_m: float = 0.1
     if outside.is_empty or outside.area < MIN_CONFLICT_M2:
         return None
     pts = shapely.get_coordinates(shapely.segmentize(outside.boundary, step_m))
-    d = shapely.distance(shapely.points(pts), area)
+    d = cast("np.ndarray", shapely.distance(shapely.points(pts), area))  # one per point
     i = int(np.argmax(d))
     if d[i] <= 0:
         return None
@@ -248,7 +254,8 @@ def draw_bodies(ax: Axes, run: TrackingRun, colour: str, count: int) -> None:
                                v.width_m)[0]
         ax.add_patch(Polygon(corners, closed=True, fc=fc, ec=colour, lw=lw, zorder=8))
         _wheels(ax, v, x, y, th, float(tr.phi_rad[i]), colour, lw)
-        if t is not None and tr.theta_t_rad is not None:
+        if (t is not None and tr.theta_t_rad is not None and tr.xt_m is not None
+                and tr.yt_m is not None):
             xt, yt, tt = float(tr.xt_m[i]), float(tr.yt_m[i]), float(tr.theta_t_rad[i])
             tc = body_corners(np.array([xt]), np.array([yt]), np.array([tt]),
                               t.wheelbase_m + t.front_overhang_m, t.rear_overhang_m,
@@ -335,7 +342,7 @@ def draw_run(ax: Axes, curve: Curve, s: Shown, units: str, bodies: int = 7,
         if track is not None:
             xy = np.asarray(track.coords)
             ax.plot(xy[:, 0], xy[:, 1], color=colour, lw=0.7, ls=style, zorder=9)
-    if tr.xt_m is not None:
+    if tr.xt_m is not None and tr.yt_m is not None:
         ax.plot(tr.xt_m, tr.yt_m, color=colour, lw=0.7, ls=(0, (6, 1.5, 1, 1.5)), zorder=9)
     ax.plot(tr.xf_m, tr.yf_m, color="black", lw=0.6, ls=(0, (8, 2)), zorder=9)
     draw_bodies(ax, run, colour, bodies)
@@ -358,15 +365,19 @@ def draw_run(ax: Axes, curve: Curve, s: Shown, units: str, bodies: int = 7,
 
 
 def _dimensions(ax: Axes, curve: Curve, s: Shown, units: str) -> None:
-    res = s.driven.result
+    res = None if s.driven is None else s.driven.result
+    if res is None:  # draw_run dimensions only a run driven again
+        return
     run, swept = res.run, res.swept
-    found = None
+    hit = None
     if curve.paved is not None and res.clearance.paved_margin_m < 0:
-        found = overreach(res.measured, curve.paved), "beyond the pavement", OUTSIDE_PAVEMENT[1]
+        hit = overreach(res.measured, curve.paved)
+        words, colour = "beyond the pavement", OUTSIDE_PAVEMENT[1]
     elif curve.own_lanes is not None and res.clearance.margin_m < 0:
-        found = overreach(res.measured, curve.own_lanes), "beyond its lanes", OUTSIDE_LANES[1]
-    if found is not None and found[0] is not None:
-        (a, b, d), words, colour = found
+        hit = overreach(res.measured, curve.own_lanes)
+        words, colour = "beyond its lanes", OUTSIDE_LANES[1]
+    if hit is not None:
+        a, b, d = hit
         dimension(ax, a, b, f"{s.record.vehicle}: {length_text(d, units)} {words}", colour)
     tr = run.trajectory
     if len(tr) > 1 and swept.max_offtracking_m > 0.05:
@@ -482,15 +493,16 @@ def run_geometry(curve: Curve, driven: DrivenRun, count: int = 7
     run, swept = res.run, res.swept
     v, tr = run.vehicle, run.trajectory
     idx = _poses(run, count)
-    outlines = list(shapely.polygons(body_corners(
+    outlines = list(cast("np.ndarray", shapely.polygons(body_corners(
         tr.x_m[idx], tr.y_m[idx], tr.theta_rad[idx], v.wheelbase_m + v.front_overhang_m,
-        v.rear_overhang_m, v.width_m)))
+        v.rear_overhang_m, v.width_m))))
     t = v.trailer
-    if t is not None and tr.theta_t_rad is not None and tr.xt_m is not None:
-        outlines += list(shapely.polygons(body_corners(
+    if (t is not None and tr.theta_t_rad is not None and tr.xt_m is not None
+            and tr.yt_m is not None):
+        outlines += list(cast("np.ndarray", shapely.polygons(body_corners(
             tr.xt_m[idx], tr.yt_m[idx], tr.theta_t_rad[idx], t.wheelbase_m + t.front_overhang_m,
-            t.rear_overhang_m, t.width_m)))
+            t.rear_overhang_m, t.width_m))))
     paths = [swept.wheel_tracks[n] for n in _wheel_names(curve, run) if n in swept.wheel_tracks]
-    if tr.xt_m is not None and len(tr) > 1:
+    if tr.xt_m is not None and tr.yt_m is not None and len(tr) > 1:
         paths.append(shapely.LineString(np.column_stack([tr.xt_m, tr.yt_m])))
     return tuple(outlines), tuple(paths)

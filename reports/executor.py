@@ -40,7 +40,7 @@ from typing import Any, TypeVar
 
 from vehicles.errors import InputError
 
-__all__ = ["DaskExecutor", "Executor", "LocalExecutor", "WorkerLost", "cores",
+__all__ = ["DaskExecutor", "Executor", "LocalExecutor", "SharedFile", "WorkerLost", "cores",
            "make_executor", "run_isolated"]
 
 log = logging.getLogger(__name__)

@@ -160,7 +160,7 @@ def _check(record: EnvelopeRecord) -> None:
         if not isinstance(g, shapely.Geometry):
             raise InputError(f"record {record.label}: expected a shapely geometry, "
                              f"got {type(g).__name__}")
-        if not g.is_empty and not np.isfinite(shapely.get_coordinates(g)).all():
+        if not shapely.is_empty(g) and not np.isfinite(shapely.get_coordinates(g)).all():
             raise InputError(f"record {record.label}: a geometry has non-finite coordinates")
 
 

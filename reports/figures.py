@@ -11,6 +11,7 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 from pathlib import Path
+from typing import TYPE_CHECKING, cast
 
 import numpy as np
 import pandas as pd
@@ -30,6 +31,11 @@ from reports.plotting import (
 )
 from reports.study import VERDICT_ORDER, NetworkCurves, RunRecord
 from vehicles.table import VehicleTable
+
+if TYPE_CHECKING:
+    from numpy.typing import NDArray
+
+__all__ = ["COLOURS", "plot_curve", "plot_network", "shown_runs", "sites", "worst_by_curve"]
 
 COLOURS = {"clear": "#1e8449", "encroaches": "#e67e22", "fails": "#c0392b",
            "cannot-turn": "#7d3c98", "error": "#000000"}
@@ -62,7 +68,9 @@ def sites(curves: list[Curve], gap_m: float = 80.0, max_sites: int = 4) -> list[
     """
     if not curves:
         return []
-    centres = shapely.points(np.array([_core_points(c).mean(axis=0) for c in curves]))
+    # an (N, 2) array of coordinates gives an array of N points
+    centres = cast("NDArray[np.object_]",
+                   shapely.points(np.array([_core_points(c).mean(axis=0) for c in curves])))
     pairs = shapely.STRtree(centres).query(centres, predicate="dwithin", distance=gap_m)
     parent = list(range(len(curves)))
 
@@ -129,7 +137,8 @@ def plot_network(nc: NetworkCurves, frame: pd.DataFrame, stem: Path, marked: int
                                       ec=COLOURS[verdict[c.curve_id]], lw=1.2))
     present = set(worst.verdict)
     handles = [Line2D([], [], color=COLOURS[v], lw=2.2, label=v)
-               for v in sorted(COLOURS, key=VERDICT_ORDER.get) if v != "error" or v in present]
+               for v in sorted(COLOURS, key=VERDICT_ORDER.__getitem__)
+               if v != "error" or v in present]
     fig.legend(handles=handles, loc="lower center", ncol=5, fontsize=8, frameon=False,
                title="worst verdict over the vehicles (numbers: the worst curves, in order)",
                title_fontsize=8, bbox_to_anchor=(0.5, -0.02))

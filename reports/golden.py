@@ -27,6 +27,9 @@ from reports.csv_rows import read_rows
 from reports.records import VERDICT_ORDER
 from vehicles.errors import InputError
 
+__all__ = ["Comparison", "GOLDEN_COLUMNS", "HEADER", "Key", "WRITTEN_COLUMNS", "compare",
+           "golden_text", "read_golden", "relevant"]
+
 GOLDEN_COLUMNS = ["network", "vehicle", "curve_id", "verdict"]
 #: Columns a golden file is written with.
 WRITTEN_COLUMNS = GOLDEN_COLUMNS + ["kind", "junction", "margin_m"]

@@ -7,6 +7,7 @@ import io
 import math
 from collections.abc import Sequence
 from pathlib import Path
+from typing import TYPE_CHECKING, Any
 
 import matplotlib
 
@@ -20,7 +21,13 @@ from matplotlib.patches import Rectangle  # noqa: E402
 from reports.atomic import write_bytes_atomic  # noqa: E402
 from reports.units import length_scale  # noqa: E402
 
-STYLE = {
+if TYPE_CHECKING:
+    from matplotlib.typing import RcKeyType
+
+__all__ = ["PALETTE", "STYLE", "add_north_arrow", "add_scale_bar", "new_figure", "nice_length",
+           "nice_step", "plan_axes", "save", "unit_name", "vehicle_colours"]
+
+STYLE: dict[RcKeyType, Any] = {
     "font.size": 9,
     "axes.titlesize": 10,
     "axes.labelsize": 9,

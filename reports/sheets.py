@@ -39,6 +39,10 @@ from reports.study import NetworkCurves, Study
 from reports.tables import _version, sha256_of
 from vehicles.vehicle import Vehicle
 
+__all__ = ["BLOCKS_MM", "FRAME_MM", "MAX_SHEETS", "MM", "PAPER_MM", "SCALES", "fit_scale",
+           "network_sheets", "pick_sheets", "sheet_view", "title_rows", "vehicle_rows",
+           "verdict_rows", "write_sheets"]
+
 #: Drawing scales tried in order (1:N); the first at which the drawing fits is used.
 SCALES = (200, 250, 500, 1000)
 #: Paper: A3 landscape, millimetres.

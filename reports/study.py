@@ -50,9 +50,9 @@ from vehicles.errors import InputError
 from vehicles.table import VehicleTable
 from vehicles.vehicle import Vehicle
 
-__all__ = ["BATCH_RUNS", "COLUMNS", "METHODS", "VERDICT_ORDER", "NetworkCurves", "RunRecord",
-           "Study", "batches_of", "load_networks", "network_name", "permitted", "progress_bar",
-           "run_study"]
+__all__ = ["APPROACH_M", "BATCH_RUNS", "COLUMNS", "METHODS", "VERDICT_ORDER", "NetworkCurves",
+           "RunRecord", "Study", "batches_of", "load_networks", "network_name", "permitted",
+           "progress_bar", "run_study"]
 
 log = logging.getLogger(__name__)
 
@@ -176,7 +176,8 @@ def batches_of(nc: NetworkCurves, vehicles: Sequence[Vehicle], method: str,
     level = logging.getLogger("reports").getEffectiveLevel()
     vs = tuple(vehicles)
     every = list(range(len(vs)))
-    k, pairs = 0, []
+    k = 0
+    pairs: list[tuple[int, Curve]] = []
     for c in nc.curves:
         which = every if allowed is None else allowed.get(c.curve_id, [])
         if not which:

@@ -17,7 +17,10 @@ import pandas as pd
 from reports.study import VERDICT_ORDER, Study
 from reports.waivers import Waived
 
-VERDICTS = tuple(sorted(VERDICT_ORDER, key=VERDICT_ORDER.get))  # worst first
+__all__ = ["VERDICTS", "clearance_csv", "counts", "sha256_of", "summary", "summary_json",
+           "waived_column"]
+
+VERDICTS = tuple(sorted(VERDICT_ORDER, key=VERDICT_ORDER.__getitem__))  # worst first
 
 
 def clearance_csv(study: Study, waived: Waived | None = None) -> str:

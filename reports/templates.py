@@ -13,6 +13,7 @@ import math
 import textwrap
 from dataclasses import dataclass
 from pathlib import Path
+from typing import TypedDict
 
 import numpy as np
 import shapely
@@ -23,6 +24,11 @@ from reports.plotting import new_figure, save
 from reports.units import length_scale
 from vehicles.table import VehicleTable
 from vehicles.vehicle import Vehicle
+
+__all__ = ["RADIUS_MARGIN", "TEMPLATE_PANEL_MM", "TEMPLATE_PAPER_MM", "TEMPLATE_SCALES", "Template",
+           "TemplateDimensions", "arc_centre", "build_templates", "plot_templates", "steady_words",
+           "template_dimensions", "template_envelope_area", "template_path", "template_sheet",
+           "write_template_sheets"]
 
 #: The arc is this much wider than the minimum CTR, so that the steering rate limit lets the
 #: steered axle stay on it while the wheels turn to lock.
@@ -176,7 +182,18 @@ def arc_centre(t: Template) -> np.ndarray:
     return np.array([0.0, t.radius_m])
 
 
-def template_dimensions(t: Template) -> dict[str, object]:
+class TemplateDimensions(TypedDict):
+    """What :func:`template_dimensions` measures (m, degrees; ``swept``: inner point, outer
+    point, width)."""
+
+    ctr_m: float
+    inside_radius_m: float
+    trailer_inside_radius_m: float
+    swept: tuple[np.ndarray, np.ndarray, float]
+    max_articulation_deg: float
+
+
+def template_dimensions(t: Template) -> TemplateDimensions:
     """What a template sheet dimensions, measured on the driven template (m, degrees).
 
     ``ctr_m`` (the arc of the steered-axle centre), ``inside_radius_m`` (closest approach
@@ -237,7 +254,7 @@ def steady_words(metrics_row, units: str) -> str:
             f"radius {length_text(metrics_row['trailer_inside_radius_m'], units)}")
 
 
-def _template_panel(ax, t: Template, units: str, colour: str) -> dict[str, object]:
+def _template_panel(ax, t: Template, units: str, colour: str) -> TemplateDimensions:
     from reports.drawing import dimension, draw_bodies, length_text
 
     dims = template_dimensions(t)
@@ -299,7 +316,7 @@ def template_sheet(t90: Template, t180: Template, metrics_row, units: str, colou
         spans.append((b[2] - b[0] + 6, b[3] - b[1] + 6))
     n = fit_scale(max(s[0] for s in spans), max(s[1] for s in spans), (pw, ph),
                   TEMPLATE_SCALES)
-    dims = []
+    dims: list[TemplateDimensions] = []
     for k, t in enumerate((t90, t180)):
         ax = fig.add_axes(((14 + k * (pw + 14)) / W, 78 / H, pw / W, ph / H))
         b = t.swept.envelope.bounds

@@ -4,6 +4,8 @@ from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
 
+__all__ = ["counted", "format_table"]
+
 
 def format_table(rows: Sequence[Mapping[str, str]], columns: Sequence[str],
                  heads: Sequence[str], text_columns: int) -> list[str]:

@@ -7,6 +7,8 @@ import pandas as pd
 from vehicles.errors import InputError
 from vehicles.schema import UNITS_TO_M
 
+__all__ = ["length_scale", "to_output_units"]
+
 
 def length_scale(units: str) -> float:
     """Metres per output unit (``"m"`` or ``"ft"``)."""

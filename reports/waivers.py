@@ -37,6 +37,8 @@ from reports.csv_rows import read_rows
 from reports.records import VERDICT_ORDER
 from vehicles.errors import InputError
 
+__all__ = ["Key", "WAIVABLE", "Waived", "Waiver", "apply_waivers", "read_waivers", "study_waivers"]
+
 #: Verdicts a waiver may accept (worst last).
 WAIVABLE = ("encroaches", "fails", "cannot-turn")
 

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+__all__ = ["InputError", "TableError"]
+
 
 class InputError(Exception):
     """Bad user input: a missing file, a malformed table or network, an unknown name.

@@ -12,6 +12,8 @@ from typing import BinaryIO
 
 from vehicles.errors import InputError
 
+__all__ = ["env_limit", "open_regular"]
+
 
 def env_limit(name: str, default: int, scale: int = 1) -> int:
     """A size limit: the environment variable ``name`` times ``scale`` if set, else

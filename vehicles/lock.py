@@ -16,6 +16,9 @@ from collections.abc import Callable
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+__all__ = ["rho_from_bicycle", "rho_from_ctr", "rho_from_curb_to_curb", "rho_from_wall_to_wall",
+           "solve_increasing"]
+
 FloatArray = NDArray[np.float64]
 
 
@@ -31,8 +34,8 @@ def rho_from_ctr(ctr_m: ArrayLike, wheelbase_m: ArrayLike) -> FloatArray:
     >>> float(rho_from_ctr(11.0, 11.0))                   # degenerate: steered axle at 90°
     0.0
     """
-    c = np.asarray(ctr_m, dtype=float)
-    l = np.asarray(wheelbase_m, dtype=float)  # noqa: E741
+    c = np.asarray(ctr_m, dtype=np.float64)
+    l = np.asarray(wheelbase_m, dtype=np.float64)  # noqa: E741
     with np.errstate(invalid="ignore"):
         return np.sqrt(c**2 - l**2)
 
@@ -49,10 +52,10 @@ def rho_from_curb_to_curb(
     >>> round(float(rho_from_curb_to_curb(2 * np.hypot(5.0 + 0.75, 2.7), 2.7, 1.5)), 12)
     5.0
     """
-    d = np.asarray(diameter_m, dtype=float)
-    l = np.asarray(wheelbase_m, dtype=float)  # noqa: E741
+    d = np.asarray(diameter_m, dtype=np.float64)
+    l = np.asarray(wheelbase_m, dtype=np.float64)  # noqa: E741
     with np.errstate(invalid="ignore"):
-        return np.sqrt((d / 2) ** 2 - l**2) - np.asarray(track_m, dtype=float) / 2
+        return np.sqrt((d / 2) ** 2 - l**2) - np.asarray(track_m, dtype=np.float64) / 2
 
 
 def rho_from_wall_to_wall(
@@ -67,10 +70,10 @@ def rho_from_wall_to_wall(
     >>> round(float(rho_from_wall_to_wall(2 * np.hypot(5.0 + 0.9, 2.7 + 0.9), 2.7, 1.8, 0.9)), 12)
     5.0
     """
-    d = np.asarray(diameter_m, dtype=float)
-    reach = np.asarray(wheelbase_m, dtype=float) + np.asarray(overhang_m, dtype=float)
+    d = np.asarray(diameter_m, dtype=np.float64)
+    reach = np.asarray(wheelbase_m, dtype=np.float64) + np.asarray(overhang_m, dtype=np.float64)
     with np.errstate(invalid="ignore"):
-        return np.sqrt((d / 2) ** 2 - reach**2) - np.asarray(width_m, dtype=float) / 2
+        return np.sqrt((d / 2) ** 2 - reach**2) - np.asarray(width_m, dtype=np.float64) / 2
 
 
 def rho_from_bicycle(phi: ArrayLike, wheelbase_m: ArrayLike) -> FloatArray:
@@ -81,9 +84,9 @@ def rho_from_bicycle(phi: ArrayLike, wheelbase_m: ArrayLike) -> FloatArray:
     >>> float(rho_from_bicycle(0.0, 2.7))
     inf
     """
-    phi = np.asarray(phi, dtype=float)
+    phi_rad = np.asarray(phi, dtype=np.float64)
     with np.errstate(divide="ignore"):
-        return np.asarray(wheelbase_m, dtype=float) / np.tan(np.abs(phi))
+        return np.asarray(wheelbase_m, dtype=np.float64) / np.tan(np.abs(phi_rad))
 
 
 def solve_increasing(
@@ -101,7 +104,7 @@ def solve_increasing(
     >>> abs(float(solve_increasing(np.sin, 0.0, 0.0, 1.5))) < 1e-15     # degenerate: zero
     True
     """
-    t = np.asarray(target, dtype=float)
+    t = np.asarray(target, dtype=np.float64)
     a = np.full(t.shape, lo)
     b = np.full(t.shape, hi)
     f_lo, f_hi = f(a), f(b)

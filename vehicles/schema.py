@@ -16,6 +16,9 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+__all__ = ["ALL_COLUMNS", "Column", "FOOT_M", "LOCK", "LOCK_NAMES", "OPTIONAL", "RACK_NAMES",
+           "REQUIRED", "TRAILER", "TRAILER_NAMES", "UNITS_TO_M", "VCLASSES", "default_vclass"]
+
 FOOT_M = 0.3048
 """One international foot in metres."""
 

@@ -16,6 +16,8 @@ from numpy.typing import ArrayLike, NDArray
 
 from vehicles.errors import InputError
 
+__all__ = ["SteeringSensor"]
+
 FloatArray = NDArray[np.float64]
 
 
@@ -42,7 +44,7 @@ class SteeringSensor:
     """
 
     def __init__(self, pairs: Iterable[tuple[float, float]], offset: float = 0.0):
-        arr = np.asarray(list(pairs), dtype=float)
+        arr = np.asarray(list(pairs), dtype=np.float64)
         if arr.ndim != 2 or arr.shape[1] != 2 or len(arr) < 2:
             raise InputError("steering sensor table: needs at least two (angle, reading) pairs")
         if not np.all(np.isfinite(arr)):
@@ -73,7 +75,7 @@ class SteeringSensor:
 
     def reading(self, angle: ArrayLike) -> FloatArray:
         """Raw reading for a wheel angle; refuses angles off the table."""
-        a = np.asarray(angle, dtype=float)
+        a = np.asarray(angle, dtype=np.float64)
         lo, hi = self.angle_range
         if np.any((a < lo) | (a > hi)) or not np.all(np.isfinite(a)):
             raise InputError(f"steering sensor: angle off the table [{lo:g}, {hi:g}]")
@@ -81,7 +83,7 @@ class SteeringSensor:
 
     def angle(self, reading: ArrayLike) -> FloatArray:
         """Wheel angle for a raw reading; refuses readings off the table."""
-        r = np.asarray(reading, dtype=float) - self.offset
+        r = np.asarray(reading, dtype=np.float64) - self.offset
         lo, hi = self._readings[0], self._readings[-1]
         if np.any((r < lo) | (r > hi)) or not np.all(np.isfinite(r)):
             lo_o, hi_o = self.reading_range

@@ -31,6 +31,10 @@ from numpy.typing import ArrayLike, NDArray
 
 from vehicles.errors import InputError
 
+__all__ = ["Breakpoints", "RackPinion", "Schedule", "Steering", "WheelAngles", "ackermann_angles",
+           "angle_from_curvature", "bicycle_from_inner", "curvature_from_angle",
+           "equivalent_bicycle", "evaluate", "ideal_outer_from_inner"]
+
 FloatArray = NDArray[np.float64]
 
 
@@ -72,7 +76,7 @@ class Breakpoints:
         return cls(tuple(xs), tuple(ys))
 
     def __call__(self, x: ArrayLike) -> FloatArray:
-        return np.interp(np.asarray(x, dtype=float), self.x, self.y)
+        return np.interp(np.asarray(x, dtype=np.float64), self.x, self.y)
 
 
 Schedule = float | Breakpoints
@@ -87,7 +91,7 @@ def evaluate(value: Schedule, x: ArrayLike) -> FloatArray:
     >>> float(evaluate(16.0, 0.3))
     16.0
     """
-    x = np.asarray(x, dtype=float)
+    x = np.asarray(x, dtype=np.float64)
     if isinstance(value, Breakpoints):
         return value(x)
     return np.full_like(x, float(value))
@@ -121,9 +125,9 @@ def ackermann_angles(
     >>> bool(abs(1 / np.tan(o) - 1 / np.tan(i) - 1.5 / 2.7) < 1e-12)   # Ackermann condition
     True
     """
-    phi = np.asarray(phi, dtype=float)
-    l = np.asarray(wheelbase_m, dtype=float)  # noqa: E741
-    w = np.asarray(track_m, dtype=float)
+    phi = np.asarray(phi, dtype=np.float64)
+    l = np.asarray(wheelbase_m, dtype=np.float64)  # noqa: E741
+    w = np.asarray(track_m, dtype=np.float64)
     a = np.abs(phi)
     s = np.sign(phi)
     inner = np.arctan2(2 * l * np.sin(a), 2 * l * np.cos(a) - w * np.sin(a))
@@ -143,9 +147,9 @@ def bicycle_from_inner(inner: ArrayLike, wheelbase_m: ArrayLike, track_m: ArrayL
     >>> round(float(bicycle_from_inner(ackermann_angles(0.4, 2.7, 1.5)[0], 2.7, 1.5)), 12)
     0.4
     """
-    d = np.asarray(inner, dtype=float)
-    l = np.asarray(wheelbase_m, dtype=float)  # noqa: E741
-    w = np.asarray(track_m, dtype=float)
+    d = np.asarray(inner, dtype=np.float64)
+    l = np.asarray(wheelbase_m, dtype=np.float64)  # noqa: E741
+    w = np.asarray(track_m, dtype=np.float64)
     a = np.abs(d)
     return np.sign(d) * np.arctan2(2 * l * np.sin(a), 2 * l * np.cos(a) + w * np.sin(a))
 
@@ -162,9 +166,9 @@ def ideal_outer_from_inner(
     >>> float(ideal_outer_from_inner(0.0, 2.7, 1.5))
     0.0
     """
-    d = np.asarray(inner, dtype=float)
-    l = np.asarray(wheelbase_m, dtype=float)  # noqa: E741
-    w = np.asarray(track_m, dtype=float)
+    d = np.asarray(inner, dtype=np.float64)
+    l = np.asarray(wheelbase_m, dtype=np.float64)  # noqa: E741
+    w = np.asarray(track_m, dtype=np.float64)
     a = np.abs(d)
     return np.sign(d) * np.arctan2(l * np.sin(a), l * np.cos(a) + w * np.sin(a))
 
@@ -181,10 +185,11 @@ def equivalent_bicycle(inner: ArrayLike, outer: ArrayLike) -> FloatArray:
     >>> round(float(equivalent_bicycle(0.5, 0.5)), 12)
     0.5
     """
-    i = np.abs(np.asarray(inner, dtype=float))
-    o = np.abs(np.asarray(outer, dtype=float))
-    s = np.sign(np.asarray(inner, dtype=float))
-    return s * np.arctan2(2 * np.sin(i) * np.sin(o), np.sin(i + o))
+    i = np.abs(np.asarray(inner, dtype=np.float64))
+    o = np.abs(np.asarray(outer, dtype=np.float64))
+    s = np.sign(np.asarray(inner, dtype=np.float64))
+    out: FloatArray = s * np.arctan2(2 * np.sin(i) * np.sin(o), np.sin(i + o))
+    return out
 
 
 def curvature_from_angle(phi: ArrayLike, wheelbase_m: ArrayLike) -> FloatArray:
@@ -195,7 +200,7 @@ def curvature_from_angle(phi: ArrayLike, wheelbase_m: ArrayLike) -> FloatArray:
     >>> float(curvature_from_angle(0.0, 2.7))
     0.0
     """
-    return np.tan(np.asarray(phi, dtype=float)) / np.asarray(wheelbase_m, dtype=float)
+    return np.tan(np.asarray(phi, dtype=np.float64)) / np.asarray(wheelbase_m, dtype=np.float64)
 
 
 def angle_from_curvature(kappa: ArrayLike, wheelbase_m: ArrayLike) -> FloatArray:
@@ -208,7 +213,8 @@ def angle_from_curvature(kappa: ArrayLike, wheelbase_m: ArrayLike) -> FloatArray
     >>> round(float(angle_from_curvature(1 / 2.7, 2.7)), 12) == round(math.pi / 4, 12)
     True
     """
-    return np.arctan(np.asarray(wheelbase_m, dtype=float) * np.asarray(kappa, dtype=float))
+    l = np.asarray(wheelbase_m, dtype=np.float64)  # noqa: E741
+    return np.arctan(l * np.asarray(kappa, dtype=np.float64))
 
 
 @dataclass(frozen=True)
@@ -259,7 +265,7 @@ class RackPinion:
         >>> abs(float(left)), abs(float(right))
         (0.0, 0.0)
         """
-        d = np.asarray(steering_wheel_rad, dtype=float)
+        d = np.asarray(steering_wheel_rad, dtype=np.float64)
         travel = evaluate(self.pinion_radius_m, d) * d
         base = (self.track_m - self.rack_length_m) / 2
         beta0 = self._beta(np.asarray(base))
@@ -310,7 +316,7 @@ class Steering:
         >>> [round(float(v), 12) for v in s.effective_input([0.05, -0.3, 7.0])]
         [0.0, -0.2, 4.9]
         """
-        d = np.clip(np.asarray(steering_wheel_rad, dtype=float),
+        d = np.clip(np.asarray(steering_wheel_rad, dtype=np.float64),
                     -self.steering_range_rad, self.steering_range_rad)
         return np.sign(d) * np.maximum(np.abs(d) - self.deadband_rad, 0.0)
 
@@ -320,7 +326,7 @@ class Steering:
         For a rear-steered axle the wheels turn the other way for the same turn direction;
         ``bicycle`` keeps the sign of the vehicle's turn (left positive).
         """
-        raw = np.asarray(steering_wheel_rad, dtype=float)
+        raw = np.asarray(steering_wheel_rad, dtype=np.float64)
         d = self.effective_input(raw)
         if self.kind == "rack_pinion":
             assert self.rack is not None
@@ -355,10 +361,11 @@ class Steering:
         >>> float(s.outer_for_inner(0.5))
         0.5
         """
-        i = np.asarray(inner, dtype=float)
+        i = np.asarray(inner, dtype=np.float64)
         if self.kind == "parallel":
             return i.copy()
         if self.kind == "ackermann":
+            p: FloatArray | float
             if isinstance(self.ackermann_pct, Breakpoints):
                 sw = self.steering_for_inner(i)
                 p = evaluate(self.ackermann_pct, sw) / 100.0
@@ -384,7 +391,7 @@ class Steering:
         sw = np.linspace(0.0, self.steering_range_rad, 4001)
         a = np.abs(self.wheel_angles(sw).inner)
         ok = np.isfinite(a)
-        return np.interp(np.asarray(inner, dtype=float), a[ok], sw[ok], left=np.nan,
+        return np.interp(np.asarray(inner, dtype=np.float64), a[ok], sw[ok], left=np.nan,
                          right=np.nan)
 
     def max_bicycle_for_inner(self, inner: ArrayLike) -> FloatArray:
@@ -396,5 +403,5 @@ class Steering:
         >>> round(float(s.max_bicycle_for_inner(ackermann_angles(0.5, 2.7, 1.5)[0])), 12)
         0.5
         """
-        i = np.asarray(inner, dtype=float)
+        i = np.asarray(inner, dtype=np.float64)
         return equivalent_bicycle(i, self.outer_for_inner(i))

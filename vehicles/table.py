@@ -47,6 +47,10 @@ from vehicles.schema import (
 from vehicles.steering import Breakpoints, RackPinion, Schedule, Steering
 from vehicles.vehicle import Trailer, Vehicle
 
+__all__ = ["DEFAULT_MAX_TABLE_BYTES", "LOCK_TOLERANCE", "MAX_TABLE_MB_ENV", "VehicleTable",
+           "bundled_table", "bundled_table_paths", "load_tables", "max_table_bytes",
+           "read_table_text", "steering_from_row", "unknown_name_message", "vehicle_from_row"]
+
 log = logging.getLogger(__name__)
 
 #: Relative disagreement allowed between two given lock columns (published values are
@@ -127,7 +131,7 @@ def unknown_name_message(name: str, known: Sequence[str]) -> str:
     >>> unknown_name_message("p", ["P", "SU-30", "WB-62"])[:38]
     "unknown vehicle 'p'; did you mean 'P'?"
     """
-    folded = {}
+    folded: dict[str, str] = {}
     for k in known:
         folded.setdefault(k.casefold(), k)
     same = [k for k in known if k.casefold() == name.casefold()]

@@ -9,6 +9,8 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 
+__all__ = ["Trailer", "Vehicle"]
+
 
 @dataclass(frozen=True)
 class Trailer:

@@ -18,6 +18,9 @@ from pathlib import Path
 
 from networks.sumo.tools import run_sumo_tool
 
+__all__ = ["COMMON_OPTIONS", "OPTIONS", "SAMPLES", "SAMPLES_DIR", "VIEWS", "build", "main",
+           "sources"]
+
 SAMPLES_DIR = Path(__file__).resolve().parent
 SAMPLES = ("intersection", "roundabout", "parking_ramp")
 

@@ -17,6 +17,11 @@ from pathlib import Path
 
 import numpy as np
 
+__all__ = ["Corners", "HELIX_LANE_M", "HELIX_RADIUS_M", "HELIX_RISE_PER_TURN_M", "HELIX_TURNS",
+           "INTERSECTION_CORNERS", "Point", "ROUNDABOUTS", "RingDesign", "SAMPLES_DIR",
+           "TEE_TIGHT_CORNER_M", "TEE_WIDE_CORNER_M", "WRITERS", "arc", "fmt", "four_leg", "main",
+           "ring", "tee", "write_intersection", "write_parking_ramp", "write_roundabout"]
+
 SAMPLES_DIR = Path(__file__).resolve().parent
 
 Point = tuple[float, ...]
@@ -135,8 +140,8 @@ def four_leg(
         # the approach lane's end and the exit lane's start, on the polygon
         start = _lane_point(frm, d[frm], lane0, inbound=True)
         end = _lane_point(to, d[to], lane0, inbound=False)
-        shape = [start, *pts, end]
-        shape = [(x + cx, y + cy) for x, y in shape]
+        relative = [start, *pts, end]
+        shape = [(x + cx, y + cy) for x, y in relative]
         cons.append(
             f'<connection from="{jid}{frm}_in" to="{jid}{to}_out" fromLane="0" toLane="0" '
             f'shape="{fmt(shape)}"/>'
@@ -335,7 +340,7 @@ def ring(design: RingDesign) -> tuple[list[str], list[str], list[str]]:
         ring_out = f"{design.rid}ring{k}"
         # entry: along the arm's lane, a right-hand arc onto the ring, round to the cut
         e_centre = (x_in, off + design.entry_radius_m)
-        entry = [(x_arm, off), (x_in, off)]
+        entry: list[Point] = [(x_arm, off), (x_in, off)]
         entry += arc(e_centre, design.entry_radius_m, -90, -90 - (90 - phi_in))[1:]
         entry += arc((0, 0), rc, phi_in, beta)[1:]
         # exit: round the ring from the cut, a right-hand arc onto the arm's lane

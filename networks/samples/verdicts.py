@@ -23,6 +23,8 @@ from networks.samples.build import SAMPLES, SAMPLES_DIR
 from networks.sumo.driver import DriveOptions, drive
 from vehicles.table import bundled_table, load_tables
 
+__all__ = ["SHORT", "VEHICLES", "curves_of", "main", "table"]
+
 VEHICLES = ("P", "2008 Chrysler Town & Country", "SU-30", "CITY-BUS", "WB-62")
 SHORT = {"2008 Chrysler Town & Country": "van"}
 
@@ -53,6 +55,8 @@ def table(name: str) -> str:
         runs = drive(net, [(v, c) for v in vehicles], options=DriveOptions(use_sumo=False))
         cells = [f"`{c.curve_id}`", f"{c.min_radius_m:.1f}", f"{round(c.turn_angle_deg):+d}"]
         for run in runs:
+            if run.result is None:  # without SUMO every run has its model result
+                raise RuntimeError(f"{run.vehicle.name} x {c.curve_id}: {run.error}")
             cells.append(f"{run.verdict} ({run.result.margin_m:+.2f})")
         lines.append("| " + " | ".join(cells) + " |")
     return "\n".join(lines)

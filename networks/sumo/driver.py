@@ -116,6 +116,9 @@ from networks.sumo.runs import (  # noqa: F401 - re-exported
 from vehicles.errors import InputError
 from vehicles.vehicle import Vehicle
 
+__all__ = ["DriveOptions", "DriveStats", "DrivenRun", "NO_DECISIONS_S", "curve_areas", "drive",
+           "replay_config", "select_curves"]
+
 log = logging.getLogger(__name__)
 
 NO_DECISIONS_S = 86400.0
@@ -447,11 +450,12 @@ class _SumoSession:
         lanes = curve.lanes
         if curve.curve_id not in self.bounds:
             ends = [self.lane_ends.get(k) for k in lanes]
-            if any(e is None for e in ends):
+            known = [e for e in ends if e is not None]
+            if len(known) < len(ends):
                 self.bounds[curve.curve_id] = np.full(len(lanes) - 1, np.inf)
             else:
                 self.bounds[curve.curve_id] = lane_boundaries_m(
-                    curve, self.paths[curve.curve_id], ends)
+                    curve, self.paths[curve.curve_id], known)
         which = np.searchsorted(self.bounds[curve.curve_id], stations, side="right").tolist()
         edge_names = [edge_of_lane(k) for k in lanes]
         indices = [lane_index(k) for k in lanes]
@@ -556,7 +560,9 @@ class _SumoSession:
                     move(*u.moves[k])
             except refused as exc:
                 sample = int(plan.samples[k])
-                t_s = float(self.out[plan.index].run.trajectory.t_s[sample])
+                run = self.out[plan.index].run
+                assert run is not None  # a plan is made only for a driven run (_add)
+                t_s = float(run.trajectory.t_s[sample])
                 self._fail(plan.index, plan.vid,
                            f"SUMO could not place vehicle {plan.vid} at t = {t_s:.2f} s "
                            f"(sample {sample}): {exc}", k, plan.max_dev, plan)

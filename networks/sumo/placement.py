@@ -21,6 +21,10 @@ from networks.curves import Curve
 from vehicles.errors import InputError
 from vehicles.vehicle import Vehicle
 
+__all__ = ["REPLAY_COMMAND", "edge_of_lane", "first_on", "front_bumper", "lane_boundaries_m",
+           "lane_index", "replay_config", "route_edges", "shape_class", "trailer_front",
+           "vtype_parameters"]
+
 REPLAY_COMMAND = 'python "$SUMO_HOME/tools/fcdReplay.py" -k {config} -f {fcd}'
 """How to replay an FCD file in sumo-gui (format with the config and FCD paths)."""
 
@@ -178,7 +182,8 @@ def trailer_front(run: TrackingRun) -> tuple[np.ndarray, np.ndarray, np.ndarray]
     """The trailer body's front-centre and heading (for its own SUMO vehicle)."""
     tr, v = run.trajectory, run.vehicle
     t = v.trailer
-    assert t is not None and tr.xt_m is not None and tr.theta_t_rad is not None
+    assert t is not None and tr.xt_m is not None and tr.yt_m is not None
+    assert tr.theta_t_rad is not None
     reach = t.wheelbase_m + t.front_overhang_m
     return (tr.xt_m + reach * np.cos(tr.theta_t_rad), tr.yt_m + reach * np.sin(tr.theta_t_rad),
             tr.theta_t_rad)

@@ -21,6 +21,9 @@ from networks.curves import Curve
 from vehicles.errors import InputError
 from vehicles.vehicle import Vehicle
 
+__all__ = ["DEFAULT_SUMO_STEP_S", "DriveOptions", "DriveStats", "DrivenRun", "curve_areas",
+           "select_curves"]
+
 DEFAULT_SUMO_STEP_S = 0.2
 """SUMO's default step length (s): every second sample of the model's default 0.1 s."""
 

@@ -10,6 +10,9 @@ from pathlib import Path
 
 from vehicles.errors import InputError
 
+__all__ = ["NETCONVERT_TIMEOUT_S", "find_sumo_binary", "netconvert_plain", "run_sumo_tool",
+           "sumo_home"]
+
 #: netconvert runs longer than this (seconds) are stopped.
 NETCONVERT_TIMEOUT_S = 300
 
