@@ -45,12 +45,18 @@ from networks.geometry import (
     arc_length,
     clean_polyline,
     curvature_profile,
-    cut_polyline,
     grades_pct,
     radius_from_curvature,
     unwrap,
 )
-from networks.paths import Path, PathPlan, junction_of_internal, plan_path, realise, via_lanes
+from networks.paths import (
+    PathPlan,
+    junction_of_internal,
+    plan_path,
+    realise,
+    steady_lead_ins,
+    via_lanes,
+)
 from networks.profiles import Stations, profiles
 from networks.reader import ROAD_VCLASSES, Network, gc_paused
 from vehicles.errors import InputError
@@ -58,9 +64,9 @@ from vehicles.errors import InputError
 if TYPE_CHECKING:
     from networks.area_book import AreaBook
 
-__all__ = ["Curve", "CurveOptions", "DEFAULT_KINDS", "Item", "KINDS", "LEAD_KEEP_M",
-           "LEAD_MIN_RADIUS_M", "MEASURE_BATCH", "extract_curves", "find_bends", "find_ramps",
-           "find_roundabouts", "find_turns", "make_curve", "measure", "permits", "permitted_lanes"]
+__all__ = ["Curve", "CurveOptions", "DEFAULT_KINDS", "Item", "KINDS", "MEASURE_BATCH",
+           "extract_curves", "find_bends", "find_ramps", "find_roundabouts", "find_turns",
+           "make_curve", "measure"]
 
 log = logging.getLogger(__name__)
 
@@ -231,7 +237,7 @@ def _measure(
 ) -> list[Curve]:
     if not items:
         return []
-    paths = _steady_lead_ins(realise(net, [it[3] for it in items]), opts)
+    paths = steady_lead_ins(realise(net, [it[3] for it in items]), opts.step_m, opts.window_m)
     prof = profiles(
         [p.centerline for p in paths],
         [p.core_start_m for p in paths],
@@ -257,47 +263,6 @@ def _measure(
     return curves
 
 
-#: A lead-in starts after the last stretch tighter than this (m) more than
-#: :data:`LEAD_KEEP_M` before the feature: a corner there is a neighbouring curve, and the
-#: vehicle should enter this one in a steady state, not still recovering from that one.
-LEAD_MIN_RADIUS_M = 15.0
-
-#: The lead-in kept next to the feature whatever its radius (m).
-LEAD_KEEP_M = 5.0
-
-
-def _steady_lead_ins(paths: list[Path], opts: CurveOptions) -> list[Path]:
-    """The paths with each lead-in cut to start after its last tight stretch.
-
-    The lead-in is for bringing the vehicle to the feature in a steady state; extended
-    back straight on only (:mod:`networks.paths`), it can still hold a tight corner
-    inside a lane (an OSM service road's). The line then starts one fitting window after
-    the last station, more than :data:`LEAD_KEEP_M` and a fitting window before the
-    feature, whose radius is under :data:`LEAD_MIN_RADIUS_M`, and never closer to the feature than
-    :data:`LEAD_KEEP_M`. The same for every vehicle (paths are cut in place).
-    """
-    # stations whose fitting window (a fixed one) stays clear of the feature's own bend
-    reach = LEAD_KEEP_M + opts.window_m
-    lead = [p for p in paths if p.core_start_m > reach + opts.window_m]
-    if not lead:
-        return paths
-    prof = profiles([p.centerline for p in lead], [0.0] * len(lead),
-                    [p.core_start_m - reach for p in lead], opts.step_m, opts.window_m,
-                    margin_m=0.0, adaptive=False)
-    for n, p in enumerate(lead):
-        s, k = prof.stations[n].array(), prof.curvature_per_m[n]
-        tight = np.flatnonzero(radius_from_curvature(k) < LEAD_MIN_RADIUS_M)
-        if not len(tight):
-            continue
-        cut = min(float(s[tight[-1]]) + opts.window_m, p.core_start_m - LEAD_KEEP_M)
-        if cut <= 0:
-            continue
-        p.centerline = cut_polyline(p.centerline, cut, math.inf)
-        p.core_start_m -= cut
-        p.core_end_m -= cut
-    return paths
-
-
 def _sloped(lines: Sequence[np.ndarray]) -> list[bool]:
     """For each line, whether its z varies (vectorised over the lines).
 
@@ -317,38 +282,6 @@ def make_curve(
 ) -> Curve:
     """Measure one path (see :func:`measure`)."""
     return measure(net, [(curve_id, kind, junction, path)], opts)[0]
-
-
-def permitted_lanes(curve: Curve) -> tuple[str, ...]:
-    """The lanes whose permissions decide whether a vehicle may drive a curve: the
-    feature's lanes with the lane just before and just after them (a turn's approach
-    lane, internal lanes and exit lane). Lanes further along the lead-in and run-out
-    belong to the neighbouring curves.
-
-    Examples
-    --------
-    >>> from types import SimpleNamespace as NS
-    >>> permitted_lanes(NS(lanes=("a", "b", ":J_0_0", "c", "d"), core_lanes=(":J_0_0",)))
-    ('b', ':J_0_0', 'c')
-    >>> permitted_lanes(NS(lanes=("e_0",), core_lanes=("e_0",)))
-    ('e_0',)
-    """
-    lanes, core = curve.lanes, curve.core_lanes
-    if not core:
-        return tuple(lanes)
-    n = len(core)
-    for i in range(len(lanes) - n + 1):
-        if lanes[i : i + n] == core:
-            return tuple(lanes[max(i - 1, 0) : i + n + 1])
-    return tuple(core)
-
-
-def permits(net: Network, curve: Curve, vclass: str) -> bool:
-    """Whether SUMO's ``allow``/``disallow`` let vehicles of class ``vclass`` drive the
-    curve: every lane of :func:`permitted_lanes` admits it (a lane the network does not
-    know is taken as admitting it)."""
-    lanes = net.lanes
-    return all(k not in lanes or vclass in lanes[k].allowed for k in permitted_lanes(curve))
 
 
 def _road_lane(net: Network, lane_id: str) -> bool:

@@ -10,17 +10,20 @@ a U-turn, which are neighbouring curves).
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from itertools import compress
 
 import numpy as np
 
-from networks.geometry import MIN_CHORD_M
+from networks.geometry import MIN_CHORD_M, cut_polyline, radius_from_curvature
+from networks.profiles import profiles
 from networks.reader import ROAD_VCLASSES, Connection, Network
 
-__all__ = ["EXTEND_DIRECTIONS", "MAX_EXTENSION_LANES", "NOT_ROADS", "Path", "PathPlan",
-           "build_path", "drivable", "extend_back", "extend_forward", "junction_of_internal",
-           "lane_length", "plan_path", "realise", "via_lanes"]
+__all__ = ["EXTEND_DIRECTIONS", "LEAD_KEEP_M", "LEAD_MIN_RADIUS_M", "MAX_EXTENSION_LANES",
+           "NOT_ROADS", "Path", "PathPlan", "build_path", "drivable", "extend_back",
+           "extend_forward", "junction_of_internal", "lane_length", "plan_path", "realise",
+           "steady_lead_ins", "via_lanes"]
 
 #: Preference among connection directions when a path is extended (straight on first).
 _DIR_RANK = {"s": 0, "R": 1, "L": 2, "r": 3, "l": 4, "t": 6}
@@ -365,3 +368,45 @@ def build_path(
     """Plan and realise one path (see :func:`plan_path` and :func:`realise`)."""
     plan = plan_path(net, before, core, after, approach_m, exit_m, core_from_m, core_to_m)
     return realise(net, [plan])[0]
+
+
+#: A lead-in starts after the last stretch tighter than this (m) more than
+#: :data:`LEAD_KEEP_M` before the feature: a corner there is a neighbouring curve, and the
+#: vehicle should enter this one in a steady state, not still recovering from that one.
+LEAD_MIN_RADIUS_M = 15.0
+
+#: The lead-in kept next to the feature whatever its radius (m).
+LEAD_KEEP_M = 5.0
+
+
+def steady_lead_ins(paths: list[Path], step_m: float, window_m: float) -> list[Path]:
+    """The paths with each lead-in cut to start after its last tight stretch (radii fitted
+    every ``step_m`` over a window of ``window_m``, as the curves' profiles are).
+
+    The lead-in is for bringing the vehicle to the feature in a steady state; extended
+    back straight on only (:mod:`networks.paths`), it can still hold a tight corner
+    inside a lane (an OSM service road's). The line then starts one fitting window after
+    the last station, more than :data:`LEAD_KEEP_M` and a fitting window before the
+    feature, whose radius is under :data:`LEAD_MIN_RADIUS_M`, and never closer to the feature than
+    :data:`LEAD_KEEP_M`. The same for every vehicle (paths are cut in place).
+    """
+    # stations whose fitting window (a fixed one) stays clear of the feature's own bend
+    reach = LEAD_KEEP_M + window_m
+    lead = [p for p in paths if p.core_start_m > reach + window_m]
+    if not lead:
+        return paths
+    prof = profiles([p.centerline for p in lead], [0.0] * len(lead),
+                    [p.core_start_m - reach for p in lead], step_m, window_m,
+                    margin_m=0.0, adaptive=False)
+    for n, p in enumerate(lead):
+        s, k = prof.stations[n].array(), prof.curvature_per_m[n]
+        tight = np.flatnonzero(radius_from_curvature(k) < LEAD_MIN_RADIUS_M)
+        if not len(tight):
+            continue
+        cut = min(float(s[tight[-1]]) + window_m, p.core_start_m - LEAD_KEEP_M)
+        if cut <= 0:
+            continue
+        p.centerline = cut_polyline(p.centerline, cut, math.inf)
+        p.core_start_m -= cut
+        p.core_end_m -= cut
+    return paths

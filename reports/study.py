@@ -40,7 +40,8 @@ from typing import Any
 
 import pandas as pd
 
-from networks.curves import Curve, CurveOptions, permits
+from networks.curves import Curve, CurveOptions
+from networks.permissions import permits
 from networks.reader import Network, read_network
 from networks.selection import Selection, check_junctions, load_selected
 from reports.batch import Batch, detached, lost_batch, run_batch, split_batch
@@ -276,7 +277,7 @@ def run_study(
 def permitted(nc: NetworkCurves, vehicles: Sequence[Vehicle],
               refused: list[tuple[str, str, str]]) -> dict[str, list[int]]:
     """For each curve id of ``nc``, the indices of the vehicles whose SUMO class its lanes
-    admit (:func:`networks.curves.permits`); every other (network, vehicle, curve) is added
+    admit (:func:`networks.permissions.permits`); every other (network, vehicle, curve) is added
     to ``refused``.
 
     A vehicle is checked only on the curves it may drive; the others are not permitted,

@@ -15,9 +15,9 @@ from analysis.clearance import (
     classify,
     evaluate,
     evaluate_batch,
-    feature_mask,
     signed_margin_m,
 )
+from analysis.feature import feature_mask
 from analysis.tracking import simulate, simulate_batch
 from tests.analysis.helpers import bus, car, turn
 from vehicles.errors import InputError

@@ -279,7 +279,7 @@ def test_permissions_follow_the_lanes_allow(build_net):
              '<edge id="SX" from="S" to="X" numLanes="1"/>'
              '<edge id="XN" from="X" to="N" numLanes="1"/>')
     net = read_network(build_net(nodes, edges))
-    from networks.curves import permits, permitted_lanes
+    from networks.permissions import permits, permitted_lanes
 
     by_id = {c.curve_id: c for c in extract_curves(net, ["turn"], areas=False)}
     from_w, from_s = by_id["turn:X:WX_0->XN_0"], by_id["turn:X:SX_0->XN_0"]
@@ -299,7 +299,7 @@ def test_a_lead_in_starts_after_its_last_tight_corner(build_net):
              '<edge id="BC" from="B" to="C" numLanes="1"/>'
              '<edge id="BD" from="B" to="D" numLanes="1"/>')
     net = read_network(build_net(nodes, edges))
-    from networks.curves import LEAD_KEEP_M
+    from networks.paths import LEAD_KEEP_M
 
     by_id = {c.curve_id: c for c in extract_curves(net, ["turn"], CurveOptions(40.0),
                                                    areas=False)}

@@ -147,7 +147,7 @@ def test_real_network_judged_in_the_feature_and_mostly_drivable(bologna_p):
     import re
 
     net, curves, runs = bologna_p
-    from networks.curves import permits
+    from networks.permissions import permits
 
     assert all(c.kind != "uturn" for c in curves)
     judged = [d for d in runs if permits(net, d.curve, "passenger")]
