@@ -20,10 +20,13 @@ positive, toward the outside of the turn, :func:`offset_profile`):
 - back to ``0`` as a half cosine over ``L`` after the feature (clipped to its end).
 
 Where the lead-in (or run-out) is shorter than half a ramp, the ramp ends (or starts) inside
-the feature instead, at most half way through it. The family is every amplitude of
-:attr:`SwingSearch.amplitudes_m` with every cut of :attr:`SwingSearch.apex_cuts`: a fixed,
-bounded number of candidates per run (24 by default), the same for every run, in a fixed
-order (smallest swing first), so the search is deterministic. A candidate whose offset
+the feature instead, at most half way through it. The amplitudes are fitted to the run's
+room: ``room * k / steps`` for ``k = 1 .. steps`` (:meth:`SwingSearch.amplitudes_m`), the
+room being how far the centre line can move outward at the feature's start, middle and end
+before the body's side reaches the paved area's edge (:func:`outside_room_m`, at most
+6 m); the family is every amplitude with every cut of :attr:`SwingSearch.apex_cuts`: a
+bounded number of candidates per run (12 by default), in a fixed order (smallest swing
+first), so the search is deterministic. A candidate whose offset
 would fold the line over itself (``1 - kappa d <= 0.2`` anywhere, ``kappa`` the centre
 line's curvature) is left out.
 
@@ -52,7 +55,9 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
+import shapely
 from numpy.typing import NDArray
+from shapely.geometry.base import BaseGeometry
 
 from analysis.clearance import Clearance
 from analysis.polyline import Path, prepare_path
@@ -79,8 +84,11 @@ class SwingSearch:
 
     Attributes
     ----------
-    amplitudes_m
-        Outward offsets of the centre line over the feature, smallest first.
+    steps
+        Amplitudes per run: ``room * k / steps`` for ``k = 1 .. steps``, ``room`` the
+        outward room of the run (:func:`outside_room_m`, at most ``max_amplitude_m``).
+    max_amplitude_m, min_amplitude_m
+        The widest swing searched; the narrowest (where the room is smaller, only this).
     apex_cuts
         Fractions of the amplitude taken back at the feature's middle (0: held).
     ramp_per_m, min_ramp_m
@@ -88,23 +96,29 @@ class SwingSearch:
 
     Examples
     --------
-    >>> SwingSearch().count
-    24
-    >>> SwingSearch(amplitudes_m=(1.0, -1.0))
+    >>> SwingSearch().count, SwingSearch().amplitudes_m(3.0)
+    (12, (0.75, 1.5, 2.25, 3.0))
+    >>> SwingSearch().amplitudes_m(0.05), SwingSearch().amplitudes_m(float("inf"))[-1]
+    ((0.15,), 6.0)
+    >>> SwingSearch(steps=0)
     Traceback (most recent call last):
     ...
-    vehicles.errors.InputError: swing search: amplitudes must be > 0 m, got (1.0, -1.0)
+    vehicles.errors.InputError: swing search: steps must be >= 1, got 0
     """
 
-    amplitudes_m: tuple[float, ...] = (0.5, 1.0, 1.5, 2.0, 2.5, 3.0, 4.0, 5.5)
+    steps: int = 4
+    max_amplitude_m: float = 6.0
+    min_amplitude_m: float = 0.15
     apex_cuts: tuple[float, ...] = (0.0, 0.3, 0.6)
     ramp_per_m: float = 4.0
     min_ramp_m: float = 6.0
 
     def __post_init__(self) -> None:
-        if not self.amplitudes_m or not all(math.isfinite(a) and a > 0
-                                            for a in self.amplitudes_m):
-            raise InputError(f"swing search: amplitudes must be > 0 m, got {self.amplitudes_m}")
+        if not (isinstance(self.steps, int) and self.steps >= 1):
+            raise InputError(f"swing search: steps must be >= 1, got {self.steps!r}")
+        if not (0 < self.min_amplitude_m <= self.max_amplitude_m
+                and math.isfinite(self.max_amplitude_m)):
+            raise InputError("swing search: amplitudes must be 0 < min <= max, finite")
         if not self.apex_cuts or not all(0 <= c < 1 for c in self.apex_cuts):
             raise InputError(f"swing search: apex cuts must be in [0, 1), got {self.apex_cuts}")
         if not (self.ramp_per_m > 0 and self.min_ramp_m > 0):
@@ -113,7 +127,15 @@ class SwingSearch:
     @property
     def count(self) -> int:
         """Candidates per run (at most; folding ones are left out)."""
-        return len(self.amplitudes_m) * len(self.apex_cuts)
+        return self.steps * len(self.apex_cuts)
+
+    def amplitudes_m(self, room_m: float) -> tuple[float, ...]:
+        """The amplitudes searched for an outward room of ``room_m``, smallest first."""
+        top = min(room_m, self.max_amplitude_m)
+        if not top > self.min_amplitude_m:
+            return (self.min_amplitude_m,)
+        return tuple(round(max(self.min_amplitude_m, top * k / self.steps), 3)
+                     for k in range(1, self.steps + 1))
 
     def ramp_m(self, amplitude_m: float) -> float:
         """Length of the ramps in and out for an amplitude (m)."""
@@ -271,13 +293,51 @@ def outside_sign(turn_angle_deg: float) -> float:
     return 0.0 if turn_angle_deg == 0 else math.copysign(1.0, -turn_angle_deg)
 
 
+def outside_room_m(path: Path, feature_m: tuple[float, float], side: float,
+                   paved: BaseGeometry, half_width_m: float, reach_m: float = 12.0) -> float:
+    """How far the centre line may move outward and keep the body's side on the pavement.
+
+    The smallest, over the feature's start, middle and end, of the distance along the
+    outward normal from the centre line to the paved area's edge, less ``half_width_m``
+    (0 where a point is off the pavement; ``reach_m`` where the pavement goes on further).
+
+    Examples
+    --------
+    A lane along y = 0 paved from y = -1.5 to y = 5.1; a 2 m wide car may move left 4.1 m:
+
+    >>> p = prepare_path([(0.0, 0.0), (40.0, 0.0)])
+    >>> paved = shapely.box(-5.0, -1.5, 45.0, 5.1)
+    >>> round(outside_room_m(p, (15.0, 25.0), 1.0, paved, 1.0), 6)
+    4.1
+    >>> round(outside_room_m(p, (15.0, 25.0), -1.0, paved, 1.0), 6)
+    0.5
+    """
+    s = np.array([feature_m[0], 0.5 * (feature_m[0] + feature_m[1]), feature_m[1]])
+    s = np.clip(s, 0.0, path.length_m)
+    xy = path.point_at(s)
+    h = path.heading_at(s)
+    n = side * np.stack([-np.sin(h), np.cos(h)], axis=1)
+    rays = shapely.linestrings(np.stack([xy, xy + reach_m * n], axis=1))
+    start = shapely.points(xy)
+    edge = shapely.boundary(paved)
+    room = []
+    for ray, p0, inside in zip(rays, start, shapely.covers(paved, start), strict=True):
+        if not inside:
+            room.append(0.0)
+            continue
+        hit = shapely.intersection(ray, edge)
+        room.append(float(shapely.distance(p0, hit)) if not hit.is_empty else reach_m)
+    return max(0.0, min(room) - half_width_m)
+
+
 def candidates(path: Path, feature_m: tuple[float, float], turn_angle_deg: float,
-               search: SwingSearch | None = None) -> list[Candidate]:
+               search: SwingSearch | None = None, room_m: float = math.inf
+               ) -> list[Candidate]:
     """The swung paths of one run, in the search's order (see the module docstring).
 
     Examples
     --------
-    A right-hand quarter circle of radius 4 m between two 20 m straights: 24 candidates,
+    A right-hand quarter circle of radius 4 m between two 20 m straights: 12 candidates,
     all offset to the left (the outside), each with the lane's ends:
 
     >>> a = np.radians(np.linspace(90, 0, 31))
@@ -285,7 +345,7 @@ def candidates(path: Path, feature_m: tuple[float, float], turn_angle_deg: float
     >>> p = prepare_path(np.vstack([[(-20.0, 24.0)], arc, [(4.0, 0.0)]]), smooth=True)
     >>> cs = candidates(p, (20.0, 26.3), -90.0)
     >>> len(cs), bool(all(c.offset_m.max() > 0 for c in cs))
-    (24, True)
+    (12, True)
     >>> bool(np.allclose(cs[0].path.xy[[0, -1]], p.xy[[0, -1]], atol=1e-6))
     True
 
@@ -300,7 +360,7 @@ def candidates(path: Path, feature_m: tuple[float, float], turn_angle_deg: float
         return []
     s = path.station_m
     out = []
-    for amp in search.amplitudes_m:
+    for amp in search.amplitudes_m(room_m):
         ramp = search.ramp_m(amp)
         a, _, _, e = ramp_bounds(path.length_m, feature_m, ramp)
         for cut in search.apex_cuts:

@@ -126,8 +126,8 @@ class DriveStats:
         Simulation steps.
     swing_s, swing_cpu_s
         The search of swung paths (:mod:`networks.swing`), model and verdicts.
-    swing_candidates
-        Swung paths driven.
+    swing_candidates, swing_judged
+        Swung paths driven, and of those judged (envelope and verdict).
     model_cpu_s, sumo_cpu_s
         The same by the process's CPU time (steadier on a shared machine).
     """
@@ -142,6 +142,7 @@ class DriveStats:
     swing_s: float = 0.0
     swing_cpu_s: float = 0.0
     swing_candidates: int = 0
+    swing_judged: int = 0
 
 
 @dataclass

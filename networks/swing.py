@@ -9,8 +9,10 @@ judges each one the follower could drive against the curve's areas over the whol
 manoeuvre (:func:`analysis.clearance.evaluate` with the candidate's window), and keeps the
 best (:func:`analysis.path_search.rank`; the lane's result wins ties). A candidate the
 follower cannot drive within the lock and steering rate in that window is not judged (it
-ranks as ``cannot-turn``). The candidates of a run are judged smallest swing first, and the
-first ``clear`` one ends that run's search (no later one can be in a better tier).
+ranks as ``cannot-turn``). The driven candidates are judged in two stages: every amplitude
+with the middle apex cut, then the other cuts of the best amplitude so far and of its two
+neighbours; the first ``clear`` one ends that run's search (no later one can be in a better
+tier).
 
 The lane-following result stays beside the chosen one (:attr:`DrivenRun.lane_result`), and
 :attr:`DrivenRun.path` says which was taken (``lane`` or ``swung``). SUMO replays the lane
@@ -26,9 +28,17 @@ import time
 import shapely
 
 from analysis.clearance import Areas, RunResult, evaluate, feature_mask, feature_reason
-from analysis.path_search import Candidate, SwingSearch, candidates, rank, swing_reason
+from analysis.path_search import (
+    Candidate,
+    SwingSearch,
+    candidates,
+    outside_room_m,
+    outside_sign,
+    rank,
+    swing_reason,
+)
 from analysis.polyline import Path
-from analysis.tracking import TrackingSettings, simulate_batch
+from analysis.tracking import TrackingRun, TrackingSettings, simulate_batch
 from networks.runs import DrivenRun, DriveOptions, DriveStats
 from vehicles.errors import InputError
 
@@ -62,49 +72,45 @@ def swing_pass(
         if not needs_swing(d):
             continue
         c = d.curve
+        feature = (c.core_start_m, c.core_end_m)
         try:
-            for cand in candidates(paths[c.curve_id], (c.core_start_m, c.core_end_m),
-                                   c.turn_angle_deg, search):
+            path = paths[c.curve_id]
+            side = outside_sign(c.turn_angle_deg)
+            room = outside_room_m(path, feature, side, areas[c.curve_id].paved,
+                                  0.5 * d.vehicle.width_m) if side else 0.0
+            for cand in candidates(path, feature, c.turn_angle_deg, search, room):
                 todo.append((d, cand))
-        except InputError as exc:  # an offset line the follower refuses: no candidates
+        except (InputError, shapely.errors.ShapelyError) as exc:  # no candidates
             log.info("%s: no swung paths: %s", c.curve_id, exc)
-    judged: dict[int, list[tuple[Candidate, RunResult | None]]] = {}
-    done: set[int] = set()
+    driven: dict[int, list[tuple[Candidate, TrackingRun]]] = {}
     size = options.batch_size
     for lo in range(0, len(todo), size):
         chunk = todo[lo:lo + size]
         runs = simulate_batch([d.vehicle for d, _ in chunk], [c.path for _, c in chunk],
                               settings)
         for (d, cand), run in zip(chunk, runs, strict=True):
-            key = id(d)
-            if key in done:
-                continue
-            res = None
             if not feature_reason(run, feature_mask(run, cand.window_m)):
-                try:
-                    res = evaluate(run, areas[d.curve.curve_id], options.offset_m,
-                                   feature_m=cand.window_m)
-                except (InputError, ValueError, shapely.errors.ShapelyError) as exc:
-                    log.info("%s x %s: a swung path could not be judged: %s",
-                             d.vehicle.name, d.curve.curve_id, exc)
-            judged.setdefault(key, []).append((cand, res))
-            if res is not None and res.verdict == "clear":
-                done.add(key)
+                driven.setdefault(id(d), []).append((cand, run))
+    judged: dict[int, list[tuple[Candidate, RunResult | None]]] = {}
+    for d in out:
+        if needs_swing(d):
+            judged[id(d)] = _judge(d, driven.get(id(d), []), areas[d.curve.curve_id],
+                                   options.offset_m, search)
     taken = 0
     for d in out:
         if not needs_swing(d):
             continue
-        tried = judged.get(id(d), [])
+        tried = judged[id(d)]
         lane = d.result
         best = rank([lane.clearance] + [r.clearance if r is not None else None
                                         for _, r in tried])
         if best == 0:
             if lane.verdict == "cannot-turn":
-                widest = max(search.amplitudes_m)
                 d.result = dataclasses.replace(lane, clearance=dataclasses.replace(
                     lane.clearance, reason=f"{lane.clearance.reason}; nor can it swing wide: "
-                    f"none of the {len(tried)} swung paths (outward offsets up to "
-                    f"{widest:g} m) is within its lock and steering rate"))
+                    f"none of its swung paths (outward offsets up to "
+                    f"{search.max_amplitude_m:g} m, as far as the pavement allows) is "
+                    "within its lock and steering rate"))
             continue
         cand, res = tried[best - 1]
         why = swing_reason(cand.amplitude_m, cand.apex_cut, res.clearance)
@@ -118,7 +124,45 @@ def swing_pass(
         d.swing_m = cand.amplitude_m
         taken += 1
     if stats is not None:
+        stats.swing_judged += sum(1 for j in judged.values() for _, r in j if r is not None)
         stats.swing_s += time.perf_counter() - t0
         stats.swing_cpu_s += time.process_time() - c0
         stats.swing_candidates += len(todo)
     return taken
+
+
+def _judge(d: DrivenRun, driven: list[tuple[Candidate, TrackingRun]], areas: Areas,
+           offset_m: float, search: SwingSearch) -> list[tuple[Candidate, RunResult | None]]:
+    """The verdicts of a run's driven candidates, in two stages.
+
+    First every amplitude with the middle apex cut; then the other cuts of the best
+    amplitude and its neighbours. A ``clear`` candidate ends the search.
+    """
+    cuts = search.apex_cuts
+    first_cut = cuts[len(cuts) // 2]
+    amps = sorted({c.amplitude_m for c, _ in driven})
+    out: list[tuple[Candidate, RunResult | None]] = []
+
+    def judge(items: list[tuple[Candidate, TrackingRun]]) -> bool:
+        for cand, run in items:
+            try:
+                res = evaluate(run, areas, offset_m, feature_m=cand.window_m)
+            except (InputError, ValueError, shapely.errors.ShapelyError) as exc:
+                log.info("%s x %s: a swung path could not be judged: %s", d.vehicle.name,
+                         d.curve.curve_id, exc)
+                res = None
+            out.append((cand, res))
+            if res is not None and res.verdict == "clear":
+                return True
+        return False
+
+    stage1 = [x for x in driven if x[0].apex_cut == first_cut]
+    if judge(stage1):
+        return out
+    best = rank([None] + [r.clearance if r else None for _, r in out])
+    near = set(amps)
+    if best:
+        k = amps.index(out[best - 1][0].amplitude_m)
+        near = set(amps[max(0, k - 1):k + 2])
+    judge([x for x in driven if x[0].apex_cut != first_cut and x[0].amplitude_m in near])
+    return out

@@ -24,6 +24,7 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass, replace
 from pathlib import Path
 
+from analysis.path_search import encroaches_on
 from analysis.tracking import TrackingSettings
 from networks.curves import Curve
 from networks.driver import DrivenRun, DriveOptions, drive
@@ -112,7 +113,7 @@ def error_record(network: str, vehicle: Vehicle, curve: Curve, method: str,
         swept_width_m=nan, available_width_m=curve.lane_width_m, max_offtracking_m=nan,
         max_tracking_error_m=nan, turn_angle_deg=curve.turn_angle_deg,
         max_grade_pct=curve.max_grade_pct, method=method, clearance_m=clearance_m,
-        reason=reason, envelope=None)
+        reason=reason, envelope=None, lane_verdict="error")
 
 
 def lost_batch(batch: Batch, reason: str) -> list[RunRecord]:
@@ -236,7 +237,8 @@ def _driven_record(batch: Batch, r: DrivenRun) -> RunRecord:
         max_tracking_error_m=r.run.max_error_m if r.run else nan,
         turn_angle_deg=curve.turn_angle_deg, max_grade_pct=curve.max_grade_pct,
         method="simulate", clearance_m=batch.clearance_m, reason=r.reason,
-        envelope=res.measured)
+        envelope=res.measured, lane_verdict=r.lane_verdict, lane_margin_m=r.lane_margin_m,
+        path=r.path, encroaches_on=r.encroaches_on)
 
 
 def _analytic(batch: Batch, items: Sequence[tuple[int, Curve]]) -> list[RunRecord]:
@@ -250,7 +252,8 @@ def _analytic(batch: Batch, items: Sequence[tuple[int, Curve]]) -> list[RunRecor
             c.margin_m, c.paved_margin_m, curve.min_radius_m, r.vehicle_min_radius_m,
             r.swept_width_m, curve.lane_width_m, r.max_offtracking_m, 0.0,
             curve.turn_angle_deg, curve.max_grade_pct, "analytic", batch.clearance_m,
-            c.reason, r.envelope))
+            c.reason, r.envelope, lane_verdict=c.verdict, lane_margin_m=c.margin_m,
+            path="lane", encroaches_on=encroaches_on(c)))
     return out
 
 

@@ -78,6 +78,10 @@ RESULT_COLUMNS = (
     "swept_width_m",
     "sumo_max_deviation_m",
     "sumo_steps",
+    "lane_verdict",
+    "lane_margin_m",
+    "path",
+    "encroaches_on",
     "reason",
 )
 
@@ -232,6 +236,10 @@ def result_row(r: DrivenRun) -> dict[str, str]:
         "swept_width_m": _num(res.swept.max_swept_width_m if res else None),
         "sumo_max_deviation_m": _num(r.sumo_max_deviation_m, 4),
         "sumo_steps": str(r.sumo_steps),
+        "lane_verdict": r.lane_verdict,
+        "lane_margin_m": _num(r.lane_margin_m),
+        "path": r.path,
+        "encroaches_on": r.encroaches_on,
         "reason": r.reason,
     }
 

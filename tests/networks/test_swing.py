@@ -61,7 +61,7 @@ def test_car_fails_where_the_lane_is_all_the_pavement(tmp_path, netconvert, tabl
 
 
 def test_bus_swings_into_the_second_lane_and_clears_the_curb(tmp_path, netconvert, table):
-    net, c = _turn(tmp_path, netconvert, "bus", 6.0, 2, 0, 3.3)
+    net, c = _turn(tmp_path, netconvert, "bus", 6.0, 2, 0, 3.5)  # 3.5 m bus lanes
     r = _drive(net, table.vehicle("CITY-BUS"), c)
     assert r.lane_verdict == "fails"  # the lane path runs over the 6 m curb
     assert (r.verdict, r.path, r.encroaches_on) == ("encroaches", "swung",
