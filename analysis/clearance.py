@@ -1,6 +1,6 @@
 """Clearance of a swept envelope against the three nested areas, and the run's verdict.
 
-Verdicts (DESIGN.md section 6), worst first:
+Verdicts (docs/design.md §6), worst first:
 
 ``cannot-turn``
     The steering point could not follow the centre line within the tolerance (the curve is

@@ -1,7 +1,9 @@
 """The paper's one-parameter control law: the Ackermann angle and the path it gives.
 
 The control parameter is the Ackermann angle ``theta = delta_i - delta_o`` (inner minus
-outer wheel angle) of an ideal Ackermann vehicle (shared/seeds/001, eqs. 1, 3 and 4):
+outer wheel angle) of an ideal Ackermann vehicle (the paper on invariant equations linking
+the control of a vehicle, the Ackermann angle, to the trajectory of its movement: eqs. 1, 3
+and 4):
 
 - eq. 1: ``rho(theta) = l sqrt((w / 2l)^2 - 1 + (w / l) cot(theta))``, the radius of the
   rear-axle centre;

@@ -42,7 +42,7 @@ Swept width
     station), the length of the piece of the normal line through the centre-line point that
     lies inside the envelope and contains that point. The maximum over the stations is
     reported; in a steady turn it equals
-    ``sqrt((rho + B/2)^2 + (l + a_f)^2) - (rho - B/2)`` (DESIGN.md section 4). Where the
+    ``sqrt((rho + B/2)^2 + (l + a_f)^2) - (rho - B/2)`` (docs/design.md §4). Where the
     envelope overlaps itself across a normal (a path that comes back near itself), the
     overlapping part counts too; near the path's end the parts of the body that trail the
     front axle have not swept yet, so the widths there are partial.

@@ -20,7 +20,7 @@ The trailer axle does not slip sideways either: ``T' . n_t = 0``, hence
 
     theta_t' = (v / l_t) (sin psi - (e / l) tan(phi) cos psi)
 
-which is the formula of DESIGN.md section 5. Per unit distance ``s`` of the rear axle
+which is the formula of docs/design.md §5. Per unit distance ``s`` of the rear axle
 (``ds = v dt``) and with the tractor's path curvature ``k = tan(phi) / l``, the articulation
 obeys an autonomous equation while ``phi`` is held::
 

@@ -1,6 +1,6 @@
 """Steady-state turning geometry of every vehicle in a table, vectorised.
 
-The DESIGN.md §4 definitions, at full lock (:func:`full_lock_metrics`) and over the
+The docs/design.md §4 definitions, at full lock (:func:`full_lock_metrics`) and over the
 steering range (:func:`steering_sweep`). Inputs are the SI columns of a loaded
 :class:`vehicles.table.VehicleTable` frame; outputs are SI too (metres, radians).
 

@@ -4,10 +4,7 @@ A 10,000-junction grid (``netgenerate --grid --grid.number 100``, two lanes, abo
 is generated once into a cache directory outside the repository, then:
 
 1. our reader (:func:`networks.reader.read_network`) is timed ``--repeat`` times, each in a
-   fresh process (so that peak memory is per run); the median is compared with the target.
-   A large file is read in two parts at once by two processes (:mod:`networks.read_split`):
-   the time is wall-clock until the network is ready, and the second process's peak memory
-   is printed beside the first's;
+   fresh process (so that peak memory is per run); the median is compared with the target;
 2. ``sumolib.net.readNet(..., withInternal=True)`` is timed once in its own process, for the
    ratio; the extraction is also given against it at the end (on these shared machines
    sumolib's read of the grid took 19-33 s in different spells: the ratios tell how our
@@ -21,16 +18,8 @@ is generated once into a cache directory outside the repository, then:
    :data:`~networks.area_book.MAX_BATCHES` would be kept. The extraction figure is curves
    plus building every area. Held at once: the network, every curve (centre line,
    profile, lanes) and the areas of at most that many batches, never all areas. Peak
-   memory is that process's ``ru_maxrss`` (read, curves and areas together). Wall-clock
-   times are compared with the targets; CPU times (all threads) are printed too, since
-   the areas use :data:`~networks.areas.WORKERS` threads (a batch is built as two halves
-   at once and the shapely calls are split between threads; ``CLEARANCE_THREADS=1``
-   builds everything in one thread). By default part of each batch is built by a worker
-   process (:mod:`networks.area_worker`; ``CLEARANCE_PROCESS=0`` uses threads only),
-   which starts on the first batches while the curves are still being extracted
-   (``extract_curves(..., build_ahead=True)``, as a study does); its peak memory
-   (``VmHWM``) is added to the process's own for the memory target (the reader's second
-   process has ended before the curves are extracted).
+   memory is that process's ``ru_maxrss`` (read, curves and areas together). Reading and
+   the areas run on one core (a study's parallel work is its runs, docs/design.md §8).
 
 Targets on a 2-core machine: reading ≤ 5 s, extracting every curve ≤ 30 s, peak memory
 ≤ 1.5 GB. Run::
@@ -87,13 +76,9 @@ elif what == "extract":
     out["read_s"] = time.perf_counter() - t0
     out["read_peak_mb"] = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
     t1, c1 = time.perf_counter(), time.process_time()
-    # areas=True: every curve gets its areas, built on demand (and ahead: all are read)
-    curves = extract_curves(net, build_ahead=True)
+    # areas=True: every curve gets its areas, built on demand
+    curves = extract_curves(net)
     t2, c2 = time.perf_counter(), time.process_time()
-    from networks import area_worker
-
-    running = area_worker._WORKER
-    out["sent_ahead"] = running[1].sent if running is not None and running[1] else 0
     out["curves_rss_mb"] = rss_mb()
     # build and check the three areas of EVERY curve, in curve order: each batch is built
     # when its first curve is read; the book keeps at most MAX_BATCHES batches at once
@@ -109,24 +94,6 @@ elif what == "extract":
     out["batches"] = len(book.batches) if book else 0
     out["batches_built"] = book.built if book else 0
     out["batch_curves"], out["max_batches"] = BATCH_CURVES, MAX_BATCHES
-    from networks.area_worker import PROCESS_SHARE, share, use_process
-    from networks.areas import WORKERS
-    out["workers"] = WORKERS
-    out["process"] = use_process() and WORKERS > 1
-    out["process_share"] = PROCESS_SHARE
-    out["last_share"] = share()
-    out["worker_peak_mb"] = 0.0
-    running = area_worker._WORKER
-    if running is not None and running[1] is not None:  # its own peak since it started
-        # (RUSAGE_CHILDREN would count this process's pages, shared while it was forked)
-        with open(f"/proc/{running[1].proc.pid}/status") as fh:
-            for line in fh:
-                if line.startswith("VmHWM:"):
-                    out["worker_peak_mb"] = int(line.split()[1]) / 1024
-        with open(f"/proc/{running[1].proc.pid}/stat") as fh:  # utime + stime, in ticks
-            ticks = fh.read().rsplit(")", 1)[1].split()[11:13]
-        out["worker_cpu_s"] = sum(map(int, ticks)) / os.sysconf("SC_CLK_TCK")
-    area_worker.stop()
     out.update(curves_s=t2 - t1, areas_s=t3 - t2, curves_cpu_s=c2 - c1, areas_cpu_s=c3 - c2)
     out["curves"] = len(curves)
     kinds = {}
@@ -134,7 +101,6 @@ elif what == "extract":
         kinds[c.kind] = kinds.get(c.kind, 0) + 1
     out["kinds"] = kinds
 out["peak_mb"] = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
-out["helper_peak_mb"] = resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss / 1024
 print(json.dumps(out))
 """
 
@@ -146,7 +112,7 @@ def cache_dir() -> Path:
 
 def grid_network(n: int, directory: Path) -> Path:
     """Generate (once) an n × n grid with two lanes per direction."""
-    from networks.sumo_tools import run_sumo_tool
+    from networks.sumo.tools import run_sumo_tool
 
     directory.mkdir(parents=True, exist_ok=True)
     path = directory / f"grid{n}x{n}_2lanes.net.xml"
@@ -195,12 +161,10 @@ def main(argv: list[str] | None = None) -> int:
     read_s = statistics.median(r["read_s"] for r in ours)
     read_peak = max(r["peak_mb"] for r in ours)
     read_cpu = statistics.median(r["read_cpu_s"] for r in ours)
-    helper_peak = max(r["helper_peak_mb"] for r in ours)
     runs = ", ".join(f"{r['read_s']:.2f}" for r in ours)
     print(
         f"our reader: median {read_s:.2f} s over {len(ours)} run(s) "
-        f"({runs}; CPU {read_cpu:.2f} s of this process; the second process reading "
-        f"half the file: peak {helper_peak:.0f} MB, 0 if the file was read in one pass), "
+        f"({runs}; CPU {read_cpu:.2f} s), "
         f"peak {read_peak:.0f} MB, "
         f"{ours[0]['junctions']} junctions, {ours[0]['lanes']} lanes "
         f"[target {TARGET_READ_S:.0f} s: {verdict(read_s, TARGET_READ_S)}]"
@@ -219,7 +183,6 @@ def main(argv: list[str] | None = None) -> int:
     total = ext["curves_s"] + ext["areas_s"]
     cpu = ext["curves_cpu_s"] + ext["areas_cpu_s"]
     peak = max(r["peak_mb"] for r in runs)
-    helpers = max(r["worker_peak_mb"] for r in runs)
     print(
         f"extracting every curve with its three areas ({ext['curves']}: {ext['kinds']}): "
         f"{total:.2f} s (curves {ext['curves_s']:.2f} s + own lanes, roadway and paved "
@@ -233,25 +196,16 @@ def main(argv: list[str] | None = None) -> int:
             f"extracting every curve with its areas {total / ref['read_s']:.2f} (sumolib's read "
             f"as the measure of how fast the machine ran)"
         )
-    how = (
-        f"part of each batch's curves by a worker process ({100 * ext['process_share']:.0f} %"
-        f" at first, {100 * ext['last_share']:.0f} % at the end; {ext['sent_ahead']} batches'"
-        f" parts sent while the curves were extracted), which used "
-        f"{ext.get('worker_cpu_s', 0.0):.2f} s of CPU"
-        if ext["process"] else f"{ext['workers']} thread(s), no worker process"
-    )
     print(
         f"areas built on demand in {ext['batches']} batches of >= {ext['batch_curves']} "
-        f"curves ({ext['batches_built']} built; {how}); held at once: "
+        f"curves ({ext['batches_built']} built, one core); held at once: "
         f"the network, every curve (geometry, profiles) and the areas of at most "
         f"{ext['max_batches']} batches"
     )
     print(
         f"peak memory of that process (read + extract + areas of every curve): {peak:.0f} MB "
         f"(after reading {ext['read_peak_mb']:.0f} MB, with the curves {ext['curves_rss_mb']:.0f}"
-        f" MB); the area worker process {helpers:.0f} MB at its peak; "
-        f"both together {peak + helpers:.0f} MB "
-        f"[target {TARGET_PEAK_MB:.0f} MB: {verdict(peak + helpers, TARGET_PEAK_MB)}]"
+        f" MB) [target {TARGET_PEAK_MB:.0f} MB: {verdict(peak, TARGET_PEAK_MB)}]"
     )
     return 0
 

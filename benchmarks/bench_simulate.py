@@ -25,9 +25,9 @@ import statistics
 import time
 
 from networks.curves import extract_curves
-from networks.driver import DriveOptions, DriveStats, curve_areas, drive
 from networks.reader import read_network
 from networks.samples import build as samples
+from networks.sumo.driver import DriveOptions, DriveStats, curve_areas, drive
 from vehicles.table import bundled_table, load_tables
 
 DEFAULT_VEHICLES = ("P", "SU-30", "CITY-BUS", "WB-40", "WB-62")

@@ -14,36 +14,22 @@ a batch's unions do not depend on what else is built). An area a caller still ho
 valid; the book only drops its own references.
 
 Curves are in kind then id order, so a junction's turns are consecutive and a sweep over
-the curves in that order builds each batch once. When batches are read in that order, the
-worker process that builds part of each large batch (:mod:`networks.area_worker`) has its
-parts of the next batches queued, so that it is never idle while this process reads its
-answer and builds its own part; a read out of order drops that work (see
-:func:`networks.areas.build_areas`). A caller that will read every curve's areas in
-order can have the worker start on the first batches while the curves are still being
-extracted (an :class:`AreaFeed`).
+the curves in that order builds each batch once.
 """
 
 from __future__ import annotations
 
-from collections import OrderedDict, deque
+from collections import OrderedDict
 from collections.abc import Iterator, Sequence
-from typing import TYPE_CHECKING
 
-from networks.area_groups import AreaIndex
+from networks.area_groups import AreaCurve, AreaIndex
 from networks.reader import Network
-
-if TYPE_CHECKING:
-    from networks.curves import Curve
 
 #: Curves per batch (a batch ends at the first change of junction after this many).
 BATCH_CURVES = 8192
 
 #: Batches whose areas an :class:`AreaBook` keeps at once (the oldest is released first).
 MAX_BATCHES = 2
-
-#: Batches after the one built that a book read in order names as next (the worker's
-#: parts of those not queued yet are queued, up to its limit).
-LOOKAHEAD = 8
 
 
 class AreaBook:
@@ -61,8 +47,7 @@ class AreaBook:
     max_batches
         Batches kept at once (at least 1; default :data:`MAX_BATCHES`).
     index
-        The network's :class:`~networks.area_groups.AreaIndex`, when already made (e.g.
-        by an :class:`AreaFeed`).
+        The network's :class:`~networks.area_groups.AreaIndex`, when already made.
 
     Attributes
     ----------
@@ -87,7 +72,7 @@ class AreaBook:
     def __init__(
         self,
         net: Network,
-        curves: Sequence[Curve],
+        curves: Sequence[AreaCurve],
         batch_curves: int | None = None,
         max_batches: int | None = None,
         index: AreaIndex | None = None,
@@ -99,10 +84,9 @@ class AreaBook:
         self.net = net
         self._index = index
         self.max_batches = max_batches
-        self.batches: list[tuple[Curve, ...]] = _batches(curves, batch_curves)
+        self.batches: list[tuple[AreaCurve, ...]] = _batches(curves, batch_curves)
         self.built = 0
         self._held: OrderedDict[int, None] = OrderedDict()
-        self._last: int | None = None  # the batch built last
         for b, batch in enumerate(self.batches):
             for c in batch:
                 c.area_book, c.area_batch = self, b
@@ -125,12 +109,7 @@ class AreaBook:
         from networks.areas import build_areas
 
         curves = self.batches[batch]
-        # read in order (the first batch, or the one after the last built): the next
-        # batches are likely next, and a worker process may start on its parts at once
-        in_order = self._last in (None, batch - 1)
-        ahead = self.batches[batch + 1 : batch + 1 + LOOKAHEAD] if in_order else ()
-        own, roadway, paved = build_areas(self.index, curves, ahead)
-        self._last = batch
+        own, roadway, paved = build_areas(self.index, curves)
         for c, o, r, p in zip(curves, own, roadway, paved, strict=True):
             if c.area_book is self:
                 c.set_areas(o, r, p, book=self)
@@ -151,73 +130,7 @@ class AreaBook:
                 c.set_areas(None, None, None, book=self)
 
 
-class AreaFeed:
-    """Gives the worker process its parts of the first batches of curves while the rest
-    are still being extracted (:func:`networks.curves.extract_curves` with
-    ``build_ahead``), so that it is not idle meanwhile; the :class:`AreaBook` made for the
-    curves then finds those parts in flight when it is read in order.
-
-    :meth:`offer` the curves extracted so far, each time more are there: a prefix of the
-    final list of curves, in its order (the batches cut from it are then those the book
-    cuts). Batches are sent when complete, in order, while the worker can take them
-    (:func:`networks.area_worker.send_ahead`); nothing is sent when no worker process is
-    used.
-
-    Parameters
-    ----------
-    net
-        The network the curves come from.
-    batch_curves
-        Curves per batch (as the book's; default :data:`BATCH_CURVES`).
-    worker
-        Use the worker process (started now when the network has a batch's worth of
-        connections, so that it is ready for the first batch); False: the batches are
-        found, nothing is sent.
-    """
-
-    def __init__(self, net: Network, batch_curves: int | None = None, worker: bool = True):
-        from networks import area_worker, areas
-
-        self.net = net
-        self.batch_curves = BATCH_CURVES if batch_curves is None else batch_curves
-        self.index: AreaIndex | None = None
-        self._ready: deque[tuple[int, int]] = deque()  # complete batches not sent yet
-        self._start = 0  # where the batch being completed starts
-        self._seen = 0  # curves looked at so far
-        self._on = worker and area_worker.use_process() and areas._may_split()
-        if self._on and len(net.connections) >= self.batch_curves:
-            area_worker.worker()  # likely needed: it starts up while curves are extracted
-
-    def offer(self, curves: Sequence[Curve]) -> None:
-        """Send the worker the complete batches of ``curves`` not sent yet (see above).
-
-        Examples
-        --------
-        >>> from types import SimpleNamespace as NS
-        >>> feed = AreaFeed(None, batch_curves=2, worker=False)  # the batches are only found
-        >>> feed.offer([NS(junction=j) for j in "AAAB"]); list(feed._ready)
-        [(0, 3)]
-        >>> feed.offer([NS(junction=j) for j in "AAABBBC"]); list(feed._ready)
-        [(0, 3), (3, 6)]
-        """
-        for end in _ends(curves, self.batch_curves, self._start, self._seen):
-            self._ready.append((self._start, end))
-            self._start = end
-        self._seen = max(self._seen, len(curves))
-        if not self._on:
-            return
-        from networks.area_worker import send_ahead
-
-        while self._ready:
-            a, b = self._ready[0]
-            if self.index is None:
-                self.index = AreaIndex(self.net)
-            if not send_ahead(self.index, tuple(curves[a:b])):
-                return
-            self._ready.popleft()
-
-
-def _batches(curves: Sequence[Curve], size: int) -> list[tuple[Curve, ...]]:
+def _batches(curves: Sequence[AreaCurve], size: int) -> list[tuple[AreaCurve, ...]]:
     """Runs of at least ``size`` consecutive curves, cut only where the junction changes.
 
     Examples
@@ -234,7 +147,7 @@ def _batches(curves: Sequence[Curve], size: int) -> list[tuple[Curve, ...]]:
 
 
 def _ends(
-    curves: Sequence[Curve], size: int, start: int = 0, seen: int = 0
+    curves: Sequence[AreaCurve], size: int, start: int = 0, seen: int = 0
 ) -> Iterator[int]:
     """Where the batches from ``start`` on end, but the last (which may still grow): each
     at the first change of junction after ``size`` curves. ``seen``: the curves already

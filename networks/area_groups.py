@@ -1,6 +1,6 @@
 """Which lanes and junction polygons make up each curve's ``roadway`` and ``paved`` area.
 
-The areas (DESIGN.md §6, :mod:`networks.areas`) are unions of *members*, named by keys:
+The areas (docs/design.md §6, :mod:`networks.areas`) are unions of *members*, named by keys:
 
 ``L:<lane>``
     One lane's polygon (round ends, grown by :data:`~networks.areas.SEAL_M`).
@@ -24,13 +24,30 @@ junction, the internal lanes of each junction).
 from __future__ import annotations
 
 from collections.abc import Sequence
-from typing import TYPE_CHECKING
+from typing import Any, Protocol
+
+import numpy as np
 
 from networks.paths import junction_of_internal, via_lanes
 from networks.reader import ROAD_VCLASSES, Network
 
-if TYPE_CHECKING:
-    from networks.curves import Curve
+
+class AreaCurve(Protocol):
+    """What building a curve's areas needs of it (:class:`networks.curves.Curve` has it):
+    a protocol, so that the area modules need not import the curves module that uses them."""
+
+    curve_id: str
+    kind: str
+    junction: str
+    lanes: tuple[str, ...]
+    core_lanes: tuple[str, ...]
+    centerline: np.ndarray
+    lane_width_m: float
+    area_book: Any
+    area_batch: int
+
+    def set_areas(self, own_lanes: Any, roadway: Any, paved: Any, book: Any = None) -> None:
+        """Give the curve its three areas (see :meth:`networks.curves.Curve.set_areas`)."""
 
 
 class AreaIndex:
@@ -121,7 +138,7 @@ class AreaIndex:
             return (out[0],) if out[0] == out[1] else (out[0], out[1])
         return tuple(dict.fromkeys(out))
 
-    def junctions_of(self, curve: Curve) -> tuple[str, ...]:
+    def junctions_of(self, curve: AreaCurve) -> tuple[str, ...]:
         """The junctions a curve passes through, as :func:`junctions_of` gives them (a
         turn's or roundabout's from the junctions of its internal lanes, looked up)."""
         if curve.kind not in ("turn", "roundabout"):
@@ -165,7 +182,7 @@ def plain_edges_of(net: Network, lanes: Sequence[str]) -> tuple[str, ...]:
     return tuple(out)
 
 
-def junctions_of(net: Network, curve: Curve) -> tuple[str, ...]:
+def junctions_of(net: Network, curve: AreaCurve) -> tuple[str, ...]:
     """The junctions a curve's feature passes through (its paved neighbourhood).
 
     A bend: the two junctions of its edge; a turn or roundabout: the junctions of its
@@ -214,7 +231,7 @@ class BatchPlan:
         self._junction: dict[str, frozenset[str]] = {}
         self._movements: dict[str, dict[str, list[str]]] = {}
 
-    def add(self, curve: Curve) -> tuple[int, int]:
+    def add(self, curve: AreaCurve) -> tuple[int, int]:
         """Register a curve; return the numbers of its roadway group and paved group."""
         plain = self.index.plain_edges(curve.lanes)
         if plain is None or not self.index.odd_lanes.isdisjoint(curve.lanes):
@@ -282,7 +299,7 @@ class BatchPlan:
         return hit
 
     # roadway -------------------------------------------------------------------------
-    def _roadway(self, curve: Curve, plain: tuple[str, ...]) -> int:
+    def _roadway(self, curve: AreaCurve, plain: tuple[str, ...]) -> int:
         hit = self._road_pieces.get(plain)
         if hit is None:
             keys = [self.edge_piece(e, True) for e in plain]
@@ -306,7 +323,7 @@ class BatchPlan:
 
     # paved ---------------------------------------------------------------------------
     def _paved(
-        self, curve: Curve, plain: tuple[str, ...], junctions: tuple[str, ...] | None = None
+        self, curve: AreaCurve, plain: tuple[str, ...], junctions: tuple[str, ...] | None = None
     ) -> int:
         net = self.net
         if junctions is None:

@@ -1,4 +1,4 @@
-"""The three nested areas that decide a verdict (DESIGN.md §6), as shapely geometry.
+"""The three nested areas that decide a verdict (docs/design.md §6), as shapely geometry.
 
 ``own_lanes``
     The curve's designed line (its centre line smoothed as the vehicle follows it,
@@ -37,32 +37,24 @@ first, then of that with the union of only the internal lanes it does not alread
 
 Building has two steps: grouping the curves (:class:`~networks.area_groups.BatchPlan`, then
 :func:`make_job`: Python, which needs the network) and making the geometry from the
-resulting :class:`Job` of plain arrays (:func:`run_job`: GEOS only). A large batch is built
-in two parts at once: by default this process groups both and builds the first while a
-worker process (:mod:`networks.area_worker`) builds the second; threads of one process
-share the GIL and gave only about 1.5 times one thread's speed on two cores. Without the
-worker, the two halves are built on two threads, and the vectorised shapely calls of a
-small batch are split over :data:`WORKERS` threads. ``own_lanes`` is
-a buffer of the centre line, so at lane joins it may stick out of the lane polygons of
-``roadway`` by slivers of a few square centimetres.
+resulting :class:`Job` of plain arrays (:func:`run_job`: GEOS only). Areas are built in the
+process that reads them, on one core: a study spends its time in the runs, which go to
+worker processes (docs/design.md §8). ``own_lanes`` is a buffer of the centre line, so at
+lane joins it may stick out of the lane polygons of ``roadway`` by slivers of a few square
+centimetres.
 """
 
 from __future__ import annotations
 
-import os
-import threading
-from collections.abc import Callable, Sequence
-from concurrent.futures import ThreadPoolExecutor
-from functools import partial
-from typing import TYPE_CHECKING, NamedTuple
+from collections.abc import Sequence
+from typing import NamedTuple
 
 import numpy as np
 import shapely
 
 from analysis.polyline import DEFAULT_SPACING_M, prepare_path
-from networks.area_groups import AreaIndex, BatchPlan
-from networks.reader import Network, cores, gc_paused
-from networks.stadium import MIN_LENGTH_M, segment_buffers
+from networks.area_groups import AreaCurve, AreaIndex, BatchPlan
+from networks.reader import Network, gc_paused
 from vehicles.errors import InputError
 
 #: The polygons ``roadway`` and ``paved`` are made of are grown by this much (metres), so
@@ -74,8 +66,6 @@ SEAL_M = 1e-3
 #: not islands, and are filled (a traffic island is several square metres).
 MIN_HOLE_M2 = 1.0
 
-if TYPE_CHECKING:
-    from networks.curves import Curve
 
 
 def lane_polygons(
@@ -86,9 +76,7 @@ def lane_polygons(
     ``grow_m`` widens every lane by that much on each side. With ``cap_style="round"``
     the ends are half discs: where two lanes meet at an angle,
     the wedge that flat ends leave open on the outside of the bend is covered (the areas
-    use this; it also reaches half a lane width past a dead end). Round-capped straight
-    lanes (two points) are built by :func:`networks.stadium.segment_buffers` (the same
-    polygons, several times faster), the others by ``shapely.buffer``.
+    use this; it also reaches half a lane width past a dead end).
 
     Examples
     --------
@@ -124,25 +112,13 @@ def _lane_polygons(
     out = np.empty(len(counts), dtype=object)
     if not len(counts):
         return out
-    rest = np.arange(len(counts))
-    if cap_style == "round":  # straight lanes: their stadiums built in numpy, as GEOS would
-        first = np.concatenate(([0], np.cumsum(counts)[:-1]))
-        two = np.flatnonzero(counts == 2)
-        p0, p1 = points[first[two]], points[first[two] + 1]
-        fits = np.hypot(*(p1 - p0).T) >= MIN_LENGTH_M
-        two, p0, p1 = two[fits], p0[fits], p1[fits]
-        out[two] = segment_buffers(p0, p1, radius[two], quad_segs=4)
-        rest = np.setdiff1d(rest, two, assume_unique=True)
-    if len(rest):
-        take = np.repeat(np.isin(np.arange(len(counts)), rest), counts)
-        index = np.repeat(np.arange(len(rest)), counts[rest])
-        lines = shapely.linestrings(points[take], indices=index)
-        buffer = partial(shapely.buffer, cap_style=cap_style, join_style="round", quad_segs=4)
-        out[rest] = _threaded(buffer, lines, radius[rest])
+    lines = shapely.linestrings(points, indices=np.repeat(np.arange(len(counts)), counts))
+    out[:] = shapely.buffer(lines, radius, cap_style=cap_style, join_style="round",
+                            quad_segs=4)
     return out
 
 
-def _own_arrays(curves: Sequence[Curve]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def _own_arrays(curves: Sequence[AreaCurve]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """The curves' centre lines (x, y; curve after curve), point counts and half widths."""
     if not curves:
         return np.empty((0, 2)), np.empty(0, dtype=np.intp), np.empty(0)
@@ -193,8 +169,7 @@ def _own_polygons(points: np.ndarray, counts: np.ndarray, half: np.ndarray) -> n
     if not len(counts):
         return np.empty(0, dtype=object)
     lines = shapely.linestrings(points, indices=np.repeat(np.arange(len(counts)), counts))
-    buffer = partial(shapely.buffer, cap_style="flat", join_style="round", quad_segs=4)
-    return _threaded(buffer, lines, half)
+    return shapely.buffer(lines, half, cap_style="flat", join_style="round", quad_segs=4)
 
 
 def _union_rows(
@@ -231,17 +206,17 @@ def _union_rows(
             continue
         index = np.array([groups[g] for g in rows], dtype=np.intp)
         if size > pairwise_max:
-            out[rows] = _threaded(_union_all_rows, geoms[index])
+            out[rows] = _union_all_rows(geoms[index])
             continue
         # rows that start with the same two entries (the two edges of a street, for a
         # U-turn at either end) share their first union
         pairs, first = np.unique(index[:, :2], axis=0, return_inverse=True)
         if size > 2 and len(pairs) < len(index):
-            start = _threaded(shapely.union, geoms[pairs[:, 0]], geoms[pairs[:, 1]])
+            start = shapely.union(geoms[pairs[:, 0]], geoms[pairs[:, 1]])
             table = np.column_stack((start[first.ravel()], geoms[index[:, 2:]]))
         else:
             table = geoms[index]
-        out[rows] = _threaded(_pairwise_rows, table)
+        out[rows] = _pairwise_rows(table)
     return _seal(out) if seal else out
 
 
@@ -263,63 +238,6 @@ def _pairwise_rows(table: np.ndarray) -> np.ndarray:
     for col in range(1, table.shape[1]):
         acc = shapely.union(acc, table[:, col])
     return acc
-
-
-#: Threads for the vectorised shapely calls (they release the GIL): one per core, at most 4
-#: (the environment variable ``CLEARANCE_THREADS`` overrides it; :func:`networks.reader.cores`).
-WORKERS = cores()
-
-#: Arrays shorter than this are not split between threads.
-MIN_SPLIT = 32
-
-_POOL: tuple[int, ThreadPoolExecutor] | None = None
-
-
-def _pool() -> ThreadPoolExecutor:
-    """The module's worker threads (made on first use and kept; a forked child, which
-    does not inherit threads, makes its own)."""
-    global _POOL
-    if _POOL is None or _POOL[0] != os.getpid():
-        _POOL = (os.getpid(), ThreadPoolExecutor(WORKERS + 1, thread_name_prefix="areas"))
-    return _POOL[1]
-
-
-def _threaded(
-    func: Callable[..., np.ndarray], *arrays: np.ndarray, runs: np.ndarray | None = None
-) -> np.ndarray:
-    """``func(*arrays)`` computed on :data:`WORKERS` slices of the arrays at once.
-
-    ``func`` must work row by row (a vectorised shapely call), so that the slices'
-    results concatenated are its result on the whole. Where the thread may not spread work
-    (:func:`_may_split`), it runs in that thread alone. With ``runs`` (a label per row,
-    equal labels consecutive), no cut falls inside a run of equal labels: rows that use
-    one prepared geometry stay in one thread (GEOS builds a prepared geometry's indexes on
-    first use, which two threads must not do at once: libgeos/geos#825).
-
-    Examples
-    --------
-    >>> a = shapely.points(np.arange(5000.0), 0)
-    >>> out = _threaded(shapely.buffer, a, np.full(5000, 1.0))
-    >>> len(out), round(float(shapely.area(out).sum()) / 5000, 2)
-    (5000, 3.12)
-    >>> len(_threaded(shapely.buffer, a[:0], np.ones(0)))
-    0
-    """
-    n = len(arrays[0])
-    if n < MIN_SPLIT or not _may_split():
-        return func(*arrays)
-    bounds = np.linspace(0, n, WORKERS + 1).astype(int)
-    if runs is not None:  # each inner cut moved on to the next change of label
-        changes = np.append(np.flatnonzero(runs[1:] != runs[:-1]) + 1, n)
-        inner = changes[np.searchsorted(changes, bounds[1:-1])]
-        bounds = np.unique(np.concatenate(([0], inner, [n])))
-    cuts = list(zip(bounds[:-1], bounds[1:], strict=True))
-    pool = _pool()
-    # the last slice in this thread, the others on the pool's
-    futures = [pool.submit(func, *(x[a:b] for x in arrays)) for a, b in cuts[:-1]]
-    a, b = cuts[-1]
-    last = func(*(x[a:b] for x in arrays))
-    return np.concatenate([f.result() for f in futures] + [last])
 
 
 def _fill_small_holes(geom, min_hole_m2: float | None = None):
@@ -391,52 +309,23 @@ def _junction_polygons(points: np.ndarray, counts: np.ndarray) -> np.ndarray:
     return out
 
 
-def build_areas(
-    index: AreaIndex, curves: Sequence[Curve], ahead: Sequence[Sequence[Curve]] = ()
-) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def build_areas(index: AreaIndex, curves: Sequence[AreaCurve]
+                ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """The ``own_lanes``, ``roadway`` and ``paved`` areas of some curves (one array each).
 
     Curves with the same roadway members share one object, and so do those with the same
-    paved members (one paved area per junction, one roadway per movement), within each
-    part. With more than one worker, at least :data:`HALVES_MIN` curves are built as two
-    parts at once (cut where the junction changes): by default the second part by a worker
-    process (:func:`networks.area_worker.build_in_two`) while this
-    thread groups and builds the first; without it (``CLEARANCE_PROCESS=0``, or when the
-    worker cannot be used) as two halves on two threads, the grouping of one (Python)
-    running while the other's shapely calls run. The lanes, junction polygons and pieces
-    are made for this call only. The areas are the same whichever way they are built.
-
-    ``ahead`` are the runs of curves likely asked for next, in order (the next batches of
-    an :class:`~networks.area_book.AreaBook` read in order): the worker's parts of them
-    are queued behind this call's, so that the worker goes on with them while this
-    process reads this call's answer and builds its own part of the next; a call for
-    other curves reads and drops those answers first (work lost, never a wrong area).
+    paved members (one paved area per junction, one roadway per movement). The lanes,
+    junction polygons and pieces are made for this call only; the areas are the same
+    whichever batch builds them.
     """
     if not curves:
         empty = np.empty(0, dtype=object)
         return empty, empty, empty
     with gc_paused():
-        return covering_paved(*_build_areas(index, curves, ahead))
-
-
-def _build_areas(
-    index: AreaIndex, curves: Sequence[Curve], ahead: Sequence[Sequence[Curve]] = ()
-) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    large = len(curves) >= HALVES_MIN and _may_split()
-    if large:
-        from networks.area_worker import build_in_two
-
-        built = build_in_two(index, curves, ahead)
-        if built is not None:
-            return built
-    cut = _halfway(curves) if large else 0
-    if not cut:
-        return _build(index, curves)
-    other = _pool().submit(_build, index, curves[cut:])
-    first = build_alone(index, curves[:cut])
-    second = other.result()
-    own, roadway, paved = (np.concatenate(p) for p in zip(first, second, strict=True))
-    return own, roadway, paved
+        plan = BatchPlan(index)
+        of = np.array([plan.add(c) for c in curves], dtype=np.intp)
+        own, roadway, paved = run_job(make_job(plan, curves))
+        return covering_paved(own, roadway[of[:, 0]], paved[of[:, 1]])
 
 
 def covering_paved(
@@ -445,7 +334,7 @@ def covering_paved(
     """The areas with each paved area grown to cover its curve's roadway and own lanes.
 
     The paved area must hold every lane the run drives on, lead-in and run-out included
-    (DESIGN.md §6): a junction's paved area holds its polygon and the lanes of its edges,
+    (docs/design.md §6): a junction's paved area holds its polygon and the lanes of its edges,
     and a run's approach and exit reach beyond them. Each distinct (roadway, paved) pair is
     unioned once (the curves of one movement share it); a curve whose own lanes (the
     designed lane, :func:`designed_line`) still stick out gets a paved area of its own.
@@ -480,63 +369,7 @@ def _fill_small_holes_each(geoms: np.ndarray) -> np.ndarray:
     return np.array([_fill_small_holes(g) for g in geoms.tolist()], dtype=object)
 
 
-#: Batches of at least this many curves are built in two halves at once (:func:`build_areas`).
-HALVES_MIN = 512
-
-_local = threading.local()
-
-
-def _may_split() -> bool:
-    """True when this thread may spread work over the pool (not on a worker thread, nor
-    while building one half of a batch)."""
-    return (
-        WORKERS > 1
-        and not getattr(_local, "alone", False)
-        and not threading.current_thread().name.startswith("areas")
-    )
-
-
-def _halfway(curves: Sequence[Curve], at: float = 0.5) -> int:
-    """Where to cut curves in two parts: the first change of junction from ``at`` of the
-    way on (or before it); 0 when all are at one junction.
-
-    Examples
-    --------
-    >>> from types import SimpleNamespace as NS
-    >>> _halfway([NS(junction=j) for j in "AAABBC"]), _halfway([NS(junction=j) for j in "AAAAB"])
-    (3, 4)
-    >>> _halfway([NS(junction=j) for j in "ABCDEFGHIJ"], 0.3), _halfway([NS(junction="A")] * 4)
-    (3, 0)
-    """
-    mid = int(len(curves) * at)
-    for i in range(max(mid, 1), len(curves)):
-        if curves[i].junction != curves[i - 1].junction:
-            return i
-    for i in range(min(mid, len(curves)) - 1, 0, -1):
-        if curves[i].junction != curves[i - 1].junction:
-            return i
-    return 0
-
-
-def _build(index: AreaIndex, curves: Sequence[Curve]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """:func:`build_areas` of one run of curves, in this thread (with helpers when it may)."""
-    plan = BatchPlan(index)
-    of = np.array([plan.add(c) for c in curves], dtype=np.intp)
-    own, roadway, paved = run_job(make_job(plan, curves))
-    return own, roadway[of[:, 0]], paved[of[:, 1]]
-
-
-def build_alone(index: AreaIndex, curves: Sequence[Curve]) -> tuple[np.ndarray, ...]:
-    """:func:`build_areas` of one run of curves in this thread alone (no threads of the
-    pool: the other core is busy, e.g. with a worker process)."""
-    _local.alone = True
-    try:
-        return _build(index, curves)
-    finally:
-        _local.alone = False
-
-
-def attach_areas(net: Network, curves: Sequence[Curve]) -> None:
+def attach_areas(net: Network, curves: Sequence[AreaCurve]) -> None:
     """Build ``own_lanes``, ``roadway`` and ``paved`` of every curve now and keep them on
     the curves (in place; :func:`networks.curves.extract_curves` builds them on demand
     instead, see :class:`networks.area_book.AreaBook`).
@@ -553,8 +386,7 @@ def attach_areas(net: Network, curves: Sequence[Curve]) -> None:
 
 class Job(NamedTuple):
     """What a run of curves' areas are made from, as plain arrays and index rows (no
-    network, no curves): made by :func:`make_job` and built by :func:`run_job`, in this
-    process or in another (:mod:`networks.area_worker`).
+    network, no curves): made by :func:`make_job` and built by :func:`run_job`.
 
     Rows index *members*: the lanes (0 ..), then the junctions, then the pieces.
     """
@@ -573,7 +405,7 @@ class Job(NamedTuple):
     own_half: np.ndarray  # half lane width of each curve
 
 
-def make_job(plan: BatchPlan, curves: Sequence[Curve]) -> Job:
+def make_job(plan: BatchPlan, curves: Sequence[AreaCurve]) -> Job:
     """The :class:`Job` of a plan's groups and of the curves' own lanes (Python only)."""
     lane_at: dict[str, int] = {}
     for lanes in plan.pieces.values():
@@ -639,7 +471,7 @@ def run_job(job: Job) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
 
     Examples
     --------
-    >>> from networks.area_groups import AreaIndex
+    >>> from networks.area_groups import AreaCurve, AreaIndex
     >>> from networks.curves import extract_curves
     >>> from networks.reader import read_network
     >>> net = read_network("networks/samples/intersection/intersection.net.xml")
@@ -662,7 +494,7 @@ def run_job(job: Job) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     inner_rows = job.paved_inner
     row_of = np.repeat(np.arange(len(inner_rows)), [len(r) for r in inner_rows])
     inner = np.array([i for r in inner_rows for i in r], dtype=np.intp)
-    covered = _threaded(shapely.covers, first[row_of], geoms[inner], runs=row_of)
+    covered = shapely.covers(first[row_of], geoms[inner])
     shapely.destroy_prepared(first)
     rest: list[list[int]] = [[] for _ in range(len(first))]
     for g, i in zip(row_of[~covered].tolist(), inner[~covered].tolist(), strict=True):
@@ -672,7 +504,7 @@ def run_job(job: Job) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     some = np.flatnonzero([len(r) > 0 for r in rest])
     if len(some):
         lanes = _union_rows([rest[g] for g in some], geoms, seal=False)
-        paved[some] = _threaded(shapely.union, first[some], lanes)
+        paved[some] = shapely.union(first[some], lanes)
     return own, roadway, _seal(paved)
 
 

@@ -1,6 +1,6 @@
 """Curves of a SUMO network: junction turns, roundabouts, ramps and tight bends.
 
-A :class:`Curve` is a path a vehicle drives through one feature (DESIGN.md §6). Its centre
+A :class:`Curve` is a path a vehicle drives through one feature (docs/design.md §6). Its centre
 line runs from ``approach_length_m`` before the feature to as far after it (where the
 network has that much lane), so the longest vehicle is straight before it starts turning.
 
@@ -50,7 +50,6 @@ from networks.geometry import (
     radius_from_curvature,
     unwrap,
 )
-from networks.lane_table import LaneTable
 from networks.paths import Path, PathPlan, junction_of_internal, plan_path, realise, via_lanes
 from networks.profiles import Stations, profiles
 from networks.reader import ROAD_VCLASSES, Network, gc_paused
@@ -200,8 +199,7 @@ class CurveOptions:
 Item = tuple[str, str, str, PathPlan]
 
 
-#: Paths measured per batch (bounds the memory of the temporary arrays; for turns, also
-#: how often an :class:`~networks.area_book.AreaFeed` is offered them).
+#: Paths measured per batch (bounds the memory of the temporary arrays).
 MEASURE_BATCH = 4096
 
 
@@ -209,7 +207,6 @@ def measure(
     net: Network,
     items: Iterable[Item],
     opts: CurveOptions,
-    table: LaneTable | None = None,
     each: Callable[[list[Curve]], None] | None = None,
 ) -> list[Curve]:
     """Measure paths in batches: radius profile, turn angle, grades, width of the core.
@@ -219,18 +216,18 @@ def measure(
     out: list[Curve] = []
     pending = iter(items)
     while batch := list(islice(pending, MEASURE_BATCH)):
-        out.extend(_measure(net, batch, opts, table))
+        out.extend(_measure(net, batch, opts))
         if each is not None:
             each(out)
     return out
 
 
 def _measure(
-    net: Network, items: Sequence[Item], opts: CurveOptions, table: LaneTable | None
+    net: Network, items: Sequence[Item], opts: CurveOptions
 ) -> list[Curve]:
     if not items:
         return []
-    paths = _steady_lead_ins(realise(net, [it[3] for it in items], table), opts)
+    paths = _steady_lead_ins(realise(net, [it[3] for it in items]), opts)
     prof = profiles(
         [p.centerline for p in paths],
         [p.core_start_m for p in paths],
@@ -356,7 +353,7 @@ def _road_lane(net: Network, lane_id: str) -> bool:
 
 
 def find_turns(
-    net: Network, opts: CurveOptions, table: LaneTable | None = None, uturns: bool = False
+    net: Network, opts: CurveOptions, uturns: bool = False
 ) -> Iterable[Item]:
     """Yield one ``turn`` per connection through a junction's internal lanes; with
     ``uturns``, one ``uturn`` per automatic turnaround (``dir="t"``) instead."""
@@ -396,12 +393,12 @@ def find_turns(
         vias = via_lanes(net, conn)
         if not vias:
             continue
-        path = plan_path(net, [from_lane], vias, [to_lane], approach, approach, table=table)
+        path = plan_path(net, [from_lane], vias, [to_lane], approach, approach)
         yield (curve_id, kind, junction, path)
 
 
 def find_roundabouts(
-    net: Network, opts: CurveOptions, table: LaneTable | None = None
+    net: Network, opts: CurveOptions
 ) -> Iterable[Item]:
     """Yield one ``roundabout`` curve per entry edge → exit edge of each ring."""
     import heapq
@@ -427,7 +424,7 @@ def find_roundabouts(
                 continue
             # Dijkstra over lanes from the entry lane, through ring lanes only
             start = [*(via_lanes(net, conn) or []), conn.to_lane]
-            heap = [(sum(lane_length(net, x, table) for x in start), 0, start)]
+            heap = [(sum(lane_length(net, x) for x in start), 0, start)]
             done: set[str] = set()
             counter = 1
             while heap:
@@ -442,7 +439,7 @@ def find_roundabouts(
                     step = [*(via_lanes(net, nxt) or []), nxt.to_lane]
                     if nxt.to_edge in ring_edges:
                         if len(lanes) < 400:
-                            d = dist + sum(lane_length(net, x, table) for x in step)
+                            d = dist + sum(lane_length(net, x) for x in step)
                             heapq.heappush(heap, (d, counter, lanes + step))
                             counter += 1
                         continue
@@ -458,7 +455,7 @@ def find_roundabouts(
                 [lanes[-1]],
                 opts.approach_length_m,
                 opts.approach_length_m,
-                table=table,
+
             )
             cid = f"roundabout:{entry_node}:{lanes[0]}->{lanes[-1]}"
             yield (cid, "roundabout", entry_node, path)
@@ -553,7 +550,7 @@ def _follow_lanes(net: Network, lane_id: str, chain: list[str]) -> list[str] | N
 
 
 def find_bends(
-    net: Network, opts: CurveOptions, skip_edges: set[str], table: LaneTable | None = None
+    net: Network, opts: CurveOptions, skip_edges: set[str]
 ) -> Iterable[Item]:
     """Yield ``bend`` curves: tight curved stretches inside plain lanes."""
     min_turn = math.radians(opts.bend_min_turn_deg)
@@ -583,7 +580,7 @@ def find_bends(
                     opts.approach_length_m,
                     float(s[i]),
                     float(s[j - 1]),
-                    table=table,
+
                 )
                 junction = net.edges[edge_id].from_junction
                 yield (f"bend:{lane_id}:{n}", "bend", junction, path)
@@ -623,7 +620,6 @@ def extract_curves(
     kinds: Iterable[str] = DEFAULT_KINDS,
     options: CurveOptions | None = None,
     areas: bool = True,
-    build_ahead: bool = False,
 ) -> list[Curve]:
     """Every curve of the requested kinds, sorted by kind then ``curve_id``.
 
@@ -640,12 +636,6 @@ def extract_curves(
         on first use, for a batch of curves at a time, and at most a few batches are kept
         (:class:`networks.area_book.AreaBook`); :func:`networks.areas.attach_areas` builds
         and keeps them all at once.
-    build_ahead
-        With ``areas``, for a caller that will read every curve's areas in order (a
-        study, a benchmark): a worker process starts building the areas of each complete
-        batch of turns while the rest are still being extracted
-        (:class:`networks.area_book.AreaFeed`). The curves and areas are the same; a
-        caller that reads few areas only loses time.
 
     Raises
     ------
@@ -658,37 +648,28 @@ def extract_curves(
         raise InputError(f"unknown curve kind(s) {', '.join(bad)}; choose from {', '.join(KINDS)}")
     opts = options or CurveOptions()
     with gc_paused():  # hundreds of thousands of objects that live on (see gc_paused)
-        return _extract(net, wanted, opts, areas, build_ahead)
+        return _extract(net, wanted, opts, areas)
 
 
-def _extract(
-    net: Network, wanted: list[str], opts: CurveOptions, areas: bool, ahead: bool = False
-) -> list[Curve]:
-    from networks.area_book import AreaBook, AreaFeed
+def _extract(net: Network, wanted: list[str], opts: CurveOptions, areas: bool) -> list[Curve]:
+    from networks.area_book import AreaBook
 
     curves: list[Curve] = []
-    table = LaneTable(net)  # every lane's shape and length, for this extraction only
-    # turns come first in the final order (KINDS): batches of them are final once measured
-    feed = AreaFeed(net) if areas and ahead and "turn" in wanted else None
     if "turn" in wanted:
-        # in their final order, a batch at a time as they are found (the same curves
-        # whether or not a feed is offered them: a batch's centre lines are realised
-        # together); the turns come first, so what is measured is a prefix of the list
-        offer = feed.offer if feed is not None else None
-        curves.extend(measure(net, find_turns(net, opts, table), opts, table, offer))
+        curves.extend(measure(net, find_turns(net, opts), opts))
     if "uturn" in wanted:
-        curves.extend(measure(net, find_turns(net, opts, table, uturns=True), opts, table))
+        curves.extend(measure(net, find_turns(net, opts, uturns=True), opts))
     if "roundabout" in wanted:
-        curves.extend(measure(net, list(find_roundabouts(net, opts, table)), opts, table))
+        curves.extend(measure(net, list(find_roundabouts(net, opts)), opts))
     ramp_edges: set[str] = set()
     if "ramp" in wanted or "bend" in wanted:
         ramps, ramp_edges = find_ramps(net, opts)
         if "ramp" in wanted:
             curves.extend(ramps)
     if "bend" in wanted:
-        curves.extend(measure(net, list(find_bends(net, opts, ramp_edges, table)), opts, table))
+        curves.extend(measure(net, list(find_bends(net, opts, ramp_edges)), opts))
     order = {k: i for i, k in enumerate(KINDS)}
     curves.sort(key=lambda c: (order[c.kind], c.curve_id))
     if areas:  # the areas are built when first read
-        AreaBook(net, curves, index=feed.index if feed is not None else None)
+        AreaBook(net, curves)
     return curves

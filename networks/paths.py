@@ -16,7 +16,6 @@ from itertools import compress
 import numpy as np
 
 from networks.geometry import MIN_CHORD_M
-from networks.lane_table import LaneTable
 from networks.reader import ROAD_VCLASSES, Connection, Network
 
 #: Preference among connection directions when a path is extended (straight on first).
@@ -119,7 +118,7 @@ def _is_internal(net: Network, lane_id: str) -> bool:
 
 
 def extend_back(
-    net: Network, lane_id: str, need_m: float, table: LaneTable | None = None
+    net: Network, lane_id: str, need_m: float
 ) -> list[str]:
     """Lanes upstream of ``lane_id`` (farthest first) covering at least ``need_m`` metres.
 
@@ -144,13 +143,13 @@ def extend_back(
         step = [conn.from_lane, *vias]
         out[:0] = step
         seen.update(step)
-        need_m -= sum(lane_length(net, k, table) for k in step)
+        need_m -= sum(lane_length(net, k) for k in step)
         cur = conn.from_lane
     return out
 
 
 def extend_forward(
-    net: Network, lane_id: str, need_m: float, table: LaneTable | None = None
+    net: Network, lane_id: str, need_m: float
 ) -> list[str]:
     """Lanes downstream of ``lane_id`` (nearest first) covering at least ``need_m`` metres
     (as :func:`extend_back`: drivable lanes only, straight on only)."""
@@ -167,22 +166,19 @@ def extend_forward(
         step = [*vias, conn.to_lane]
         out.extend(step)
         seen.update(step)
-        need_m -= sum(lane_length(net, k, table) for k in step)
+        need_m -= sum(lane_length(net, k) for k in step)
         cur = conn.to_lane
     return out
 
 
-def lane_length(net: Network, lane_id: str, table: LaneTable | None = None) -> float:
-    """Plane length of a lane's shape (metres; from ``table`` when given)."""
-    return table.length_m(lane_id) if table is not None else net.lane_line(lane_id)[1]
+def lane_length(net: Network, lane_id: str) -> float:
+    """Plane length of a lane's shape (metres)."""
+    return net.lane_line(lane_id)[1]
 
 
-def _total_length(net: Network, lanes: list[str], table: LaneTable | None) -> float:
+def _total_length(net: Network, lanes: list[str]) -> float:
     """Sum of the lanes' plane lengths, added in order from 0."""
-    if table is None:
-        return sum(lane_length(net, k) for k in lanes)
-    length, index = table.lengths, table.index
-    return sum([length[index[k]] for k in lanes])
+    return sum(lane_length(net, k) for k in lanes)
 
 
 @dataclass(slots=True)
@@ -231,7 +227,6 @@ def plan_path(
     exit_m: float,
     core_from_m: float = 0.0,
     core_to_m: float | None = None,
-    table: LaneTable | None = None,
 ) -> PathPlan:
     """Choose the lanes of a path: ``before`` + ``core`` + ``after``, extended as needed.
 
@@ -240,19 +235,19 @@ def plan_path(
     (less the part of the core lanes outside the core). ``core_from_m`` / ``core_to_m``
     place the core inside the concatenated core lanes (default: all of them).
     """
-    core_total = _total_length(net, core, table)
+    core_total = _total_length(net, core)
     c_from = min(max(core_from_m, 0.0), core_total)
     c_to = core_total if core_to_m is None else min(max(core_to_m, c_from), core_total)
-    before_len = _total_length(net, before, table)
-    after_len = _total_length(net, after, table)
+    before_len = _total_length(net, before)
+    after_len = _total_length(net, after)
     need_back = approach_m - c_from - before_len
     if need_back > 0:
         first = before[0] if before else core[0]
-        before = extend_back(net, first, need_back, table) + before
+        before = extend_back(net, first, need_back) + before
     need_fwd = exit_m - (core_total - c_to) - after_len
     if need_fwd > 0:
         last = after[-1] if after else core[-1]
-        after = after + extend_forward(net, last, need_fwd, table)
+        after = after + extend_forward(net, last, need_fwd)
     return PathPlan(
         before + core + after, len(before), len(core), c_from, c_to, core_total, approach_m, exit_m
     )
@@ -261,30 +256,18 @@ def plan_path(
 _GAP = 10.0  # key distance between consecutive paths in a batch
 
 
-def realise(net: Network, plans: list[PathPlan], table: LaneTable | None = None) -> list[Path]:
+def realise(net: Network, plans: list[PathPlan]) -> list[Path]:
     """Make the centre lines of many planned paths at once (vectorised).
 
     Each centre line is its lanes' shapes joined, cut to ``approach_m`` before the core and
-    ``exit_m`` after it (where the lanes reach that far), without repeated points. With a
-    ``table`` (:class:`~networks.lane_table.LaneTable`), the lane shapes come from it and
-    the paths' lane ids are the network's own strings.
+    ``exit_m`` after it (where the lanes reach that far), without repeated points.
     """
     if not plans:
         return []
     n_pieces = np.array([len(p.lanes) for p in plans])
-    if table is None:
-        lane_lines = [net.lane_line(k)[0] for p in plans for k in p.lanes]
-        piece_counts = np.fromiter(map(len, lane_lines), dtype=np.int64, count=len(lane_lines))
-        pts = np.concatenate(lane_lines)
-        names = None
-    else:
-        index = table.index
-        rows = np.fromiter(
-            (index[k] for p in plans for k in p.lanes), dtype=np.int64, count=int(n_pieces.sum())
-        )
-        pts, piece_counts = table.gather(rows)
-        ids = table.ids
-        names = [ids[i] for i in rows.tolist()]
+    lane_lines = [net.lane_line(k)[0] for p in plans for k in p.lanes]
+    piece_counts = np.fromiter(map(len, lane_lines), dtype=np.int64, count=len(lane_lines))
+    pts = np.concatenate(lane_lines)
     piece_first = np.concatenate(([0], np.cumsum(piece_counts)[:-1]))
     piece_last = piece_first + piece_counts - 1
     plan_first_piece = np.concatenate(([0], np.cumsum(n_pieces)[:-1]))
@@ -350,7 +333,7 @@ def realise(net: Network, plans: list[PathPlan], table: LaneTable | None = None)
     starts_l, ends_l = starts.tolist(), ends.tolist()
     for c, plan in enumerate(plans):
         f = first_piece[c]
-        own = plan.lanes if names is None else names[f : f + len(plan.lanes)]
+        own = plan.lanes
         core = tuple(own[plan.n_before : plan.n_before + plan.n_core])
         lanes = tuple(compress(own, on_list[f : f + len(own)])) or core
         paths.append(Path(lanes, lines[c], starts_l[c], ends_l[c], core))

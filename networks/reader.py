@@ -4,8 +4,7 @@ Only what curve extraction needs is kept: lanes (with 3-D shapes as numpy arrays
 connections, junction polygons, roundabouts and the location. The parser is lxml's
 target (SAX-style) parser with entity resolution and network access off: no tree is
 built, so memory grows with the geometry, not with the XML. Shapes are kept as strings
-while reading and parsed in bulk at the end (:func:`parse_shapes`). A large plain file is
-read in two parts at once, on two cores (:mod:`networks.read_split`), with the same result.
+while reading and parsed in bulk at the end (:func:`parse_shapes`).
 
 Example
 -------
@@ -247,11 +246,6 @@ def read_network(path: str | os.PathLike[str]) -> Network:
     if root_tag != "net":
         raise InputError(f"{p}: not a SUMO network (root element <{root_tag}>, expected <net>)")
     with gc_paused():  # a million objects that live on: collections would only scan them
-        from networks.read_split import read_in_two, split_offset
-
-        offset = split_offset(p)
-        if offset is not None and (state := read_in_two(p, offset)) is not None:
-            return state.finish()
         state = _ParseState(p)
         parser = make_parser(state)
         try:
@@ -285,16 +279,6 @@ def make_parser(state: _ParseState) -> etree.XMLParser:
         remove_comments=True,
         remove_pis=True,
     )
-
-
-def cores() -> int:
-    """How many cores the reader and the areas may use: ``CLEARANCE_THREADS`` if set, else
-    the cores this process may run on (at most 4)."""
-    env = os.environ.get("CLEARANCE_THREADS", "").strip()
-    if env.isdigit() and int(env) > 0:
-        return int(env)
-    return max(1, min(4, len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity")
-                      else os.cpu_count() or 1))
 
 
 @contextmanager

@@ -190,19 +190,18 @@ def load_selected(
     net: Network,
     selection: Selection | None = None,
     options: CurveOptions | None = None,
-    build_ahead: bool = False,
 ) -> list[Curve]:
     """The curves of ``net`` that pass ``selection``, with areas built on demand.
 
     Only the selected kinds are extracted. When the selection also drops curves by
     junction or box, the curves are extracted without areas, filtered, and only the kept
     ones get an :class:`~networks.area_book.AreaBook` (so no area of a dropped curve is
-    ever built; ``build_ahead`` applies only to an extraction that keeps every curve).
+    ever built).
     """
     selection = selection or Selection()
     kwargs = {"kinds": selection.kinds} if selection.kinds else {}
     if not selection.narrows:
-        return extract_curves(net, options=options, build_ahead=build_ahead, **kwargs)
+        return extract_curves(net, options=options, **kwargs)
     from networks.area_book import AreaBook
 
     kept = select(extract_curves(net, options=options, areas=False, **kwargs), selection)

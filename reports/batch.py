@@ -27,8 +27,8 @@ from pathlib import Path
 from analysis.path_search import encroaches_on
 from analysis.tracking import TrackingSettings
 from networks.curves import Curve
-from networks.driver import DrivenRun, DriveOptions, drive
 from networks.reader import Network, read_network
+from networks.sumo.driver import DrivenRun, DriveOptions, drive
 from reports.analytic import minimum_ctr_m, run_analytic
 from reports.executor import SharedFile
 from reports.file_names import file_name
@@ -64,6 +64,9 @@ class Batch:
         Folder for SUMO's FCD output, or ``None``.
     log_level
         The study's logging level, for the worker's own log.
+    use_sumo
+        ``False`` computes the simulate method's runs without replaying them in SUMO (the
+        same model, envelopes and verdicts; :attr:`networks.sumo.driver.DriveOptions.use_sumo`).
     """
 
     network: str
@@ -75,6 +78,7 @@ class Batch:
     fcd_dir: str | None = None
     log_level: int = logging.WARNING
     part: str = ""
+    use_sumo: bool = True
 
     def __len__(self) -> int:
         return len(self.pairs)
@@ -216,7 +220,7 @@ def _simulated(batch: Batch, net: Network, items: Sequence[tuple[int, Curve]]
         Path(batch.fcd_dir).mkdir(parents=True, exist_ok=True)
         fcd = Path(batch.fcd_dir) / file_name([batch.network, f"{batch.index:03d}{batch.part}"],
                                               ".fcd.xml")
-    options = DriveOptions(offset_m=batch.clearance_m, fcd_output=fcd)
+    options = DriveOptions(offset_m=batch.clearance_m, fcd_output=fcd, use_sumo=batch.use_sumo)
     runs = drive(net, [(batch.vehicles[v], c) for v, c in items], options=options)
     return [_driven_record(batch, r) for r in runs]
 
@@ -320,7 +324,7 @@ def split_drive(task: DriveTask) -> list[DriveTask]:
 
 
 def run_drive(task: DriveTask, shared: SharedFile) -> list[DrivenRun]:
-    """Drive ``task``'s runs in this worker (:func:`networks.driver.drive`)."""
+    """Drive ``task``'s runs in this worker (:func:`networks.sumo.driver.drive`)."""
     return drive(worker_network(shared), list(task.pairs), task.settings, task.options)
 
 

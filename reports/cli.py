@@ -40,7 +40,7 @@ def build_parser() -> argparse.ArgumentParser:
 #: The packages whose loggers ``-v`` turns up (not the libraries').
 OWN_LOGGERS = ("vehicles", "analysis", "networks", "reports")
 
-#: Exit statuses (DESIGN.md section 6; the README's "Exit codes").
+#: Exit statuses (docs/design.md §6; the README's "Exit codes").
 EXIT_OK, EXIT_NOT_CLEAR, EXIT_BAD_INPUT, EXIT_INTERNAL = 0, 1, 2, 3
 
 

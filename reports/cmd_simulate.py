@@ -1,7 +1,7 @@
 """``clearance simulate``: drive vehicles through a network's curves in SUMO and judge them.
 
 Each vehicle x curve run follows the curve's centre line with its kinematic model, is
-replayed in libsumo (:mod:`networks.driver`), and gets an envelope and a verdict. With
+replayed in libsumo (:mod:`networks.sumo.driver`), and gets an envelope and a verdict. With
 ``-o DIR`` it writes, byte-identically for identical inputs, into a fresh folder swapped in
 for ``DIR`` in one atomic step when everything is written (:mod:`reports.output_dir`: a
 failing or interrupted run leaves the previous output as it was, and an existing ``DIR``
@@ -36,15 +36,15 @@ import numpy as np
 
 from analysis.tracking import TrackingSettings
 from networks.curves import DEFAULT_KINDS, Curve
-from networks.driver import (
+from networks.reader import Network, read_network
+from networks.selection import check_junctions, load_selected
+from networks.sumo.driver import (
     REPLAY_COMMAND,
     DrivenRun,
     DriveOptions,
     replay_config,
     select_curves,
 )
-from networks.reader import Network, read_network
-from networks.selection import check_junctions, load_selected
 from reports.atomic import write_text_atomic
 from reports.batch import DriveTask, detached, lost_drive, run_drive, split_drive
 from reports.executor import Executor, LocalExecutor, run_isolated
@@ -191,7 +191,7 @@ def drive_in_workers(net: Network, pairs: Sequence[tuple[Vehicle, Curve]],
                      settings: TrackingSettings, options: DriveOptions,
                      workers: int | None = None,
                      executor: Executor | None = None) -> list[DrivenRun]:
-    """:func:`networks.driver.drive` in worker processes, so that a crash of SUMO costs only
+    """:func:`networks.sumo.driver.drive` in worker processes, so that a crash of SUMO costs only
     the runs that cause it (they come back failed, with the reason; see
     :func:`reports.executor.run_isolated`). With FCD output the runs go to one worker
     (one SUMO session writes one FCD file); otherwise they are shared between the workers.

@@ -1,6 +1,6 @@
 """``clearance vehicles``: turning circles and swept widths of every vehicle at full lock.
 
-Beside the steady-state figures at full lock (DESIGN.md §4), every vehicle is driven through
+Beside the steady-state figures at full lock (docs/design.md §4), every vehicle is driven through
 the Green Book's design turn (:mod:`analysis.design_turn`): 180° with the steered-axle centre
 on its full-lock CTR. That turn's inside radius is what the Green Book publishes as the
 minimum inside radius, and the only one a combination without a steady state at full lock
@@ -41,7 +41,7 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
         help="turning circles and swept widths of the vehicle table(s)",
         description="Full-lock turning geometry of every vehicle: lock angles, Ackermann "
                     "angle, turning radii and diameters, steady-state inside radius, swept "
-                    "width and offtracking (DESIGN.md §4), and the inside radius of a 180° "
+                    "width and offtracking (docs/design.md §4), and the inside radius of a 180° "
                     "turn with the steered-axle centre on the full-lock CTR (the Green "
                     "Book's minimum inside radius; for a combination the trailer's, and the "
                     "only one where there is no steady state at full lock).",

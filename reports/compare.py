@@ -111,7 +111,7 @@ def plot_turning_circles(table: VehicleTable, stem: str | Path, units: str = "m"
     ax.set_yticks(y, t.vehicle)
     ax.invert_yaxis()
     ax.set_xlabel(f"length ({units})")
-    ax.set_title("Turning circles at full lock (DESIGN.md §4)", pad=22)
+    ax.set_title("Turning circles at full lock (docs/design.md §4)", pad=22)
     ax.legend(loc="lower center", bbox_to_anchor=(0.5, 1.0), ncol=3, frameon=False)
     ax.grid(axis="y", visible=False)
     return save(fig, stem)

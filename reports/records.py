@@ -1,7 +1,8 @@
 """A study's result rows: one :class:`RunRecord` per network x vehicle x curve.
 
-The columns of ``clearance.csv`` (:data:`COLUMNS`) and the order of the verdicts
-(:data:`VERDICT_ORDER`, worst first, ``error`` before every verdict) are defined here once.
+The columns of ``clearance.csv`` (:data:`COLUMNS`) are defined here once, and the ranks of
+the verdicts (:data:`VERDICT_ORDER`: ``error`` before the order
+:data:`analysis.clearance.VERDICTS` defines).
 """
 
 from __future__ import annotations
@@ -10,6 +11,8 @@ import math
 from dataclasses import dataclass, field
 
 from shapely.geometry.base import BaseGeometry
+
+from analysis.clearance import VERDICTS
 
 __all__ = ["COLUMNS", "VERDICT_ORDER", "RunRecord"]
 
@@ -20,9 +23,10 @@ COLUMNS = ["network", "vehicle", "curve_id", "kind", "junction", "verdict", "mar
            "max_grade_pct", "method", "clearance_m", "lane_verdict", "lane_margin_m", "path",
            "encroaches_on", "reason"]
 
-#: Verdicts worst first; ``error`` is a run the tool or SUMO could not complete (its reason
-#: says why).
-VERDICT_ORDER = {"error": -1, "cannot-turn": 0, "fails": 1, "encroaches": 2, "clear": 3}
+#: Verdicts worst first, as ranks: ``error`` (a run the tool or SUMO could not complete; its
+#: reason says why) before the run verdicts of :data:`analysis.clearance.VERDICTS`, which
+#: define their order (``{"error": -1, "cannot-turn": 0, ..., "clear": 3}``).
+VERDICT_ORDER = {v: rank for rank, v in enumerate(("error", *VERDICTS), start=-1)}
 
 
 @dataclass

@@ -9,7 +9,7 @@ methods:
 
 ``simulate``
     Each vehicle is driven along each curve with its kinematic model within its steering
-    lock and rate, placed every step in a libsumo simulation (:mod:`networks.driver`); the
+    lock and rate, placed every step in a libsumo simulation (:mod:`networks.sumo.driver`); the
     swept envelope of the run is measured against the curve's areas.
 ``analytic``
     Each vehicle in the steady turn of the local radius at every station
@@ -132,7 +132,7 @@ def load_networks(paths: Sequence[str | Path],
     if selection is not None and selection.junctions:
         check_junctions(selection.junctions, [net for _, net in nets])
     for path, net in nets:
-        curves = load_selected(net, selection, opts, build_ahead=True)
+        curves = load_selected(net, selection, opts)
         name = network_name(path, [n.name for n in out])
         if not curves:
             log.warning("%s: no curves found", path)
@@ -163,7 +163,8 @@ def progress_bar(total: int, desc: str) -> Callable[[int], None]:
 def batches_of(nc: NetworkCurves, vehicles: Sequence[Vehicle], method: str,
                clearance_m: float, fcd_dir: Path | None = None,
                size: int = BATCH_RUNS,
-               allowed: dict[str, list[int]] | None = None) -> Iterator[Batch]:
+               allowed: dict[str, list[int]] | None = None,
+               use_sumo: bool = True) -> Iterator[Batch]:
     """The batches of one network: consecutive curves, each with all its vehicles (those
     ``allowed`` on it, when given: vehicle indices by curve id), up to ``size`` runs (one
     curve at least).
@@ -182,13 +183,13 @@ def batches_of(nc: NetworkCurves, vehicles: Sequence[Vehicle], method: str,
             continue
         if pairs and len(pairs) + len(which) > size:
             yield Batch(nc.name, k, method, clearance_m, vs, tuple(pairs),
-                        None if fcd_dir is None else str(fcd_dir), level)
+                        None if fcd_dir is None else str(fcd_dir), level, use_sumo=use_sumo)
             k, pairs = k + 1, []
         d = detached(c)
         pairs += [(vi, d) for vi in which]
     if pairs:
         yield Batch(nc.name, k, method, clearance_m, vs, tuple(pairs),
-                    None if fcd_dir is None else str(fcd_dir), level)
+                    None if fcd_dir is None else str(fcd_dir), level, use_sumo=use_sumo)
 
 
 def run_study(
@@ -202,6 +203,7 @@ def run_study(
     client: Any = None,
     executor: Executor | None = None,
     selection: Selection | None = None,
+    use_sumo: bool = True,
 ) -> Study:
     """Every vehicle of ``table`` through every curve of every network (of ``selection``).
 
@@ -213,6 +215,12 @@ def run_study(
         A ``dask.distributed`` scheduler address or client: the runs go to its workers.
     executor
         An :class:`~reports.executor.Executor` to use (and leave open) instead.
+    use_sumo
+        ``False``: the simulate method without replaying the runs in SUMO (the same model,
+        envelopes and verdicts, faster).
+    use_sumo
+        ``False``: the simulate method without replaying the runs in SUMO (the same model,
+        envelopes and verdicts, faster).
     selection
         Only the curves of this :class:`~networks.selection.Selection` (kind, junction,
         box), chosen before any area is built.
@@ -245,7 +253,7 @@ def run_study(
             t0 = time.perf_counter()
             size = max(1, min(BATCH_RUNS, -(-runs // (2 * ex.workers))))
             tasks = batches_of(nc, vehicles, method, clearance_m, fcd_dir, size,
-                               allowed[nc.name])
+                               allowed[nc.name], use_sumo)
             for batch, recs in run_isolated(ex, run_batch, tasks, split_batch, lost_batch,
                                             shared):
                 records += recs

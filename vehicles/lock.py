@@ -3,7 +3,7 @@
 A spec sheet publishes a turning circle, a design manual a centre-line turning radius
 (CTR), a steering drawing the inner wheel's angle. Each fixes ``rho``, the radius of the
 unsteered axle's centre at full lock (the rear axle for front steering), through the
-DESIGN.md §4 relations. All functions are vectorised over numpy arrays.
+docs/design.md §4 relations. All functions are vectorised over numpy arrays.
 
 Symbols: ``l`` wheelbase, ``w`` steered-axle track, ``B`` body width, ``a_s`` the body
 overhang beyond the steered axle (the front overhang for a front-steered vehicle).

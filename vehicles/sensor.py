@@ -1,7 +1,7 @@
 """Steering-angle sensor: a look-up table between wheel angle and raw reading.
 
-The ERTS steering subsystem (shared/seeds/003) reads the front wheels' pivot angle through a
-linear potentiometer whose voltage is non-linear in the angle; a table of
+The steering subsystem of the ERTS autonomous vehicle reads the front wheels' pivot angle
+through a linear potentiometer whose voltage is non-linear in the angle; a table of
 ``(angle, reading)`` pairs and an ``offset`` convert between the two:
 ``reading = table(angle) + offset``. Both directions interpolate linearly and refuse
 values off the table (no extrapolation).

@@ -1,6 +1,6 @@
 """Steering mechanisms: from the steering-wheel angle to the road-wheel angles.
 
-Conventions (DESIGN.md §3–§4): angles in radians, a left turn is positive. The *inner*
+Conventions (docs/design.md §3–§4): angles in radians, a left turn is positive. The *inner*
 wheel is the one nearer the turning centre (the left wheel in a left turn). The
 bicycle-equivalent angle ``phi`` is the angle of a single wheel at the steered-axle centre
 giving the same path curvature, ``kappa = tan(phi) / wheelbase``. For ideal Ackermann
@@ -8,7 +8,7 @@ steering it is exact; for mechanisms whose wheels disagree on the turning centre
 (parallel, part-Ackermann, rack-and-pinion) it is the paper's mean-cotangent angle
 ``cot(phi) = (cot(delta_i) + cot(delta_o)) / 2``.
 
-Mechanisms (the kinematic-steering reference page, shared/seeds/004):
+Mechanisms (the reference page of a commercial "Kinematic Steering" block):
 
 - steering ratio ``gamma``: road-wheel angle = steering-wheel angle / gamma; constant or a
   :class:`Breakpoints` table over the steering-wheel angle;

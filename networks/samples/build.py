@@ -16,7 +16,7 @@ import argparse
 import sys
 from pathlib import Path
 
-from networks.sumo_tools import run_sumo_tool
+from networks.sumo.tools import run_sumo_tool
 
 SAMPLES_DIR = Path(__file__).resolve().parent
 SAMPLES = ("intersection", "roundabout", "parking_ramp")

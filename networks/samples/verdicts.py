@@ -8,7 +8,7 @@ Vehicles: the AASHTO design vehicles P, SU-30, CITY-BUS and WB-62 (bundled table
 ``aashto_green_book``) and a large van (the 2008 Chrysler Town & Country of
 ``paper_table1``). Each drives lane-keeping along the curve's (smoothed) centre line at
 crawl speed with the kinematic model, exactly as ``clearance report`` drives it
-(:func:`networks.driver.drive`, here without SUMO, which only replays the model); its swept
+(:func:`networks.sumo.driver.drive`, here without SUMO, which only replays the model); its swept
 envelope is measured against the curve's own lanes, roadway and paved area, with no
 clearance offset.
 """
@@ -18,9 +18,9 @@ from __future__ import annotations
 import sys
 
 from networks.curves import Curve, extract_curves
-from networks.driver import DriveOptions, drive
 from networks.reader import read_network
 from networks.samples.build import SAMPLES, SAMPLES_DIR
+from networks.sumo.driver import DriveOptions, drive
 from vehicles.table import bundled_table, load_tables
 
 VEHICLES = ("P", "2008 Chrysler Town & Country", "SU-30", "CITY-BUS", "WB-62")

@@ -72,7 +72,7 @@ def semi(hitch=0.0, lt=8.0):
 
 def test_a_full_circle_settles_on_the_steady_state():
     # 360 degrees on the arc is many wheelbases: the inner side reaches rho - B/2 and the
-    # trailer sqrt(rho^2 + e^2 - l_t^2) - B_t/2 (DESIGN.md section 5). A trailer settles
+    # trailer sqrt(rho^2 + e^2 - l_t^2) - B_t/2 (docs/design.md §5). A trailer settles
     # over a few l_t / cos(psi) of travel: a short one, so that it has settled.
     single = design_turn_inside_radius(car(), angle_deg=360.0)
     assert float(single.inside_radius_m[0]) == pytest.approx(4.5 - 0.9, abs=1e-3)

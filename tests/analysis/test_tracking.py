@@ -211,7 +211,7 @@ def test_a_run_that_starts_on_a_circle_starts_in_its_steady_state(smooth: bool) 
     # the rear axle starts on its steady circle: sin(phi) = l / R, not tan(phi) = l / R
     assert math.hypot(tr.x_m[0], tr.y_m[0] - radius) == pytest.approx(rho, abs=0.01)
     assert tr.phi_rad[0] == pytest.approx(math.asin(v.wheelbase_m / radius), abs=2e-3)
-    # and the offtracking is the steady state's, CTR - rho (DESIGN.md 4), from the start on
+    # and the offtracking is the steady state's, CTR - rho (docs/design.md §4), from the start on
     assert swept_path(run).max_offtracking_m == pytest.approx(radius - rho, rel=0.01)
     assert run.followed and run.max_error_m < 0.01
 

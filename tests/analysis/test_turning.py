@@ -50,7 +50,7 @@ def test_safe_pathway_is_the_body_width_straight_ahead_and_grows_with_lock():
 
 
 def test_paper_curb_to_curb_diameters_for_smart_and_pilot():
-    # DESIGN.md: the paper's equations with delta_max = 40 deg give ~27.7 ft and ~39.2 ft.
+    # docs/design.md: the paper's equations with delta_max = 40 deg give ~27.7 ft and ~39.2 ft.
     t = load_tables([bundled_table("paper_table1")], ["2009 Smart Car", "2010 Honda Pilot"])
     m = turning_metrics(t)
     assert m.curb_to_curb_m[0] / FT == pytest.approx(27.7, abs=0.05)

@@ -14,7 +14,7 @@ from networks.reader import read_network
 
 def _game_net(relative: str) -> Path:
     try:
-        from networks.sumo_tools import sumo_home
+        from networks.sumo.tools import sumo_home
 
         path = sumo_home() / "tools" / "game" / relative
     except FileNotFoundError as exc:  # pragma: no cover
@@ -105,7 +105,7 @@ def _realnet(name: str) -> Path:
 @pytest.fixture(scope="module")
 def bologna_p():
     """bologna_joined's curves and the passenger car P driven through each (no SUMO)."""
-    from networks.driver import DriveOptions, drive
+    from networks.sumo.driver import DriveOptions, drive
     from reports.study import APPROACH_M
     from vehicles.table import bundled_table, load_tables
 

@@ -9,7 +9,7 @@ from pathlib import Path
 
 import pytest
 
-from networks.sumo_tools import netconvert_plain
+from networks.sumo.tools import netconvert_plain
 from reports.cli import main
 from reports.cmd_curves import COLUMNS
 

@@ -163,8 +163,8 @@ def test_trajectory_file_names_are_safe_and_unique():
 def test_a_run_that_crashes_sumo_fails_alone_and_the_others_are_driven():
     from analysis.tracking import TrackingSettings
     from networks.curves import extract_curves
-    from networks.driver import DriveOptions
     from networks.reader import read_network
+    from networks.sumo.driver import DriveOptions
     from reports.cmd_simulate import drive_in_workers
     from tests.reports.test_executor import CrashingExecutor
     from vehicles.table import bundled_table_paths, load_tables

@@ -21,7 +21,7 @@ from shapely.geometry import LineString, MultiPolygon, Point, Polygon
 from shapely.ops import unary_union
 
 from networks.reader import Location, read_network
-from networks.sumo_tools import find_sumo_binary, sumo_home
+from networks.sumo.tools import find_sumo_binary, sumo_home
 from reports.export_dxf import VERDICT_ACI, dxf_layer_name
 from reports.export_geojson import COORDS_LOCAL, COORDS_LONLAT, COORDS_MIXED
 from reports.export_sumo import hole_free_pieces

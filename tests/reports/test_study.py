@@ -2,12 +2,10 @@
 
 from __future__ import annotations
 
-from functools import partial
 from pathlib import Path
 
 import pytest
 
-from networks.driver import DriveOptions
 from reports.study import APPROACH_M, run_study
 from reports.tables import summary
 from vehicles.table import bundled_table, load_tables
@@ -23,16 +21,8 @@ def _realnet(name: str) -> Path:
     pytest.skip(f"{name} is not in ../shared/realnets")
 
 
-def _without_sumo(monkeypatch) -> None:
-    """The simulate method with the model, envelopes and verdicts, but no libsumo."""
-    import reports.simulated
-
-    monkeypatch.setattr(reports.simulated, "DriveOptions",
-                        partial(DriveOptions, use_sumo=False))
-
-
 def test_curves_a_vehicle_may_not_use_are_not_permitted_never_run(tmp_path):
-    from networks.sumo_tools import netconvert_plain
+    from networks.sumo.tools import netconvert_plain
 
     try:
         net = netconvert_plain(
@@ -69,12 +59,12 @@ def test_curves_a_vehicle_may_not_use_are_not_permitted_never_run(tmp_path):
     assert written and all(Path(p).stat().st_size > 0 for p in written)
 
 
-def test_a_vehicles_verdicts_do_not_depend_on_the_others_in_the_table(monkeypatch):
+def test_a_vehicles_verdicts_do_not_depend_on_the_others_in_the_table():
     net = _realnet("bologna_joined.net.xml.gz")
-    _without_sumo(monkeypatch)
     path = bundled_table("aashto_green_book")
-    alone = run_study([net], load_tables([path], names=["P"]))
-    both = run_study([net], load_tables([path], names=["P", "WB-67"]))
+    # the simulate method's model, envelopes and verdicts, without the replay in SUMO
+    alone = run_study([net], load_tables([path], names=["P"]), use_sumo=False)
+    both = run_study([net], load_tables([path], names=["P", "WB-67"]), use_sumo=False)
     # the former rule (the longest vehicle plus 5 m, at least 25 m) gave these two tables
     # different lead-ins; now every study has the same
     wb67 = load_tables([path], names=["WB-67"]).vehicles()[0]

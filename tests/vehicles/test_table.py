@@ -59,7 +59,7 @@ def test_unknown_name_suggests_a_close_one():
 
 
 def test_lock_forms_agree_for_the_same_vehicle(tmp_path):
-    # P car (DESIGN.md check figure): l = 11 ft, B = 7 ft, CTR = 21 ft; the same lock as an
+    # P car (docs/design.md check figure): l = 11 ft, B = 7 ft, CTR = 21 ft; the same lock as an
     # inner-wheel angle: cot(delta_i) = (rho - w/2)/l with rho = sqrt(21^2 - 11^2).
     rho = math.sqrt(21**2 - 11**2)
     inner = math.degrees(math.atan2(11, rho - 3.5))

@@ -1,4 +1,4 @@
-"""Drive options, curve selection and a curve's areas (networks.runs)."""
+"""Drive options, curve selection and a curve's areas (networks.sumo.runs)."""
 
 from __future__ import annotations
 
@@ -8,8 +8,8 @@ import pytest
 
 from networks.curves import extract_curves
 from networks.reader import read_network
-from networks.runs import DrivenRun, DriveOptions, curve_areas, select_curves
 from networks.samples import build as samples
+from networks.sumo.runs import DrivenRun, DriveOptions, curve_areas, select_curves
 from vehicles.errors import InputError
 from vehicles.table import bundled_table, load_tables
 

@@ -66,7 +66,7 @@ fault) writing FCD output for a vehicle whose first placement is off every lane.
 ``vehicle.getRoadID`` on a placed vehicle: it crashes for one off every lane.
 
 The libsumo-free helpers (vType parameters, lane hints, placement points, the replay
-configuration) are in :mod:`networks.placement`.
+configuration) are in :mod:`networks.sumo.placement`.
 """
 
 from __future__ import annotations
@@ -91,7 +91,8 @@ from analysis.polyline import Path, prepare_path
 from analysis.tracking import TrackingSettings, simulate_batch
 from networks.curves import Curve
 from networks.geometry import heading_rad_to_navigational
-from networks.placement import (  # noqa: F401 - re-exported
+from networks.reader import Network
+from networks.sumo.placement import (  # noqa: F401 - re-exported
     REPLAY_COMMAND,
     edge_of_lane,
     first_on,
@@ -104,8 +105,7 @@ from networks.placement import (  # noqa: F401 - re-exported
     trailer_front,
     vtype_parameters,
 )
-from networks.reader import Network
-from networks.runs import (  # noqa: F401 - re-exported
+from networks.sumo.runs import (  # noqa: F401 - re-exported
     DEFAULT_SUMO_STEP_S,
     DrivenRun,
     DriveOptions,
@@ -608,7 +608,7 @@ class _GiveUp(Exception):
 
 def _import_libsumo():
     """libsumo with SUMO_HOME set from the ``eclipse-sumo`` package."""
-    from networks.sumo_tools import sumo_home
+    from networks.sumo.tools import sumo_home
 
     try:
         os.environ.setdefault("SUMO_HOME", str(sumo_home()))

@@ -1,6 +1,6 @@
 """What SUMO is told about a run: vTypes, routes, lane hints, placements, replay.
 
-Helpers of :mod:`networks.driver`, free of libsumo: a vehicle's vType parameters and shape
+Helpers of :mod:`networks.sumo.driver`, free of libsumo: a vehicle's vType parameters and shape
 class, the edges and lanes of a curve, where each lane ends along a centre line, the points
 SUMO places (front-bumper centre of the towing unit, front of the trailer), and the SUMO
 configuration that replays FCD output in sumo-gui.

@@ -1,6 +1,6 @@
 """What a drive is asked and what it returns: options, time statistics, results, selection.
 
-:func:`networks.driver.drive` takes a :class:`DriveOptions` and returns one
+:func:`networks.sumo.driver.drive` takes a :class:`DriveOptions` and returns one
 :class:`DrivenRun` per vehicle x curve pair; :class:`DriveStats` says where its time went.
 :func:`select_curves` picks curves by id (with close matches for a typo) and
 :func:`curve_areas` turns a curve's areas into the :class:`~analysis.clearance.Areas` its
