@@ -57,7 +57,7 @@ class RunRecord:
     #: ``margin_m`` where the lane path was taken).
     lane_verdict: str = ""
     lane_margin_m: float = math.nan
-    #: ``lane`` or ``swung``: the path the verdict judges (:mod:`networks.swing`).
+    #: ``lane`` or ``swung``: the path the verdict judges (:mod:`networks.sumo.swing`).
     path: str = "lane"
     #: What the path's envelope encroaches on: ``same-direction lanes``, ``opposing
     #: lanes``, ``shoulder`` (beyond the paved area), or empty.

@@ -66,7 +66,7 @@ def counts(frame: pd.DataFrame, by: str) -> dict[str, dict[str, int]]:
 
 
 def paths(frame: pd.DataFrame) -> dict[str, object]:
-    """How many runs took a swung path (:mod:`networks.swing`), what those encroach on,
+    """How many runs took a swung path (:mod:`networks.sumo.swing`), what those encroach on,
     and how many runs the search made better than their lane's verdict.
 
     Examples

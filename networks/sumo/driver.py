@@ -113,7 +113,7 @@ from networks.sumo.runs import (  # noqa: F401 - re-exported
     curve_areas,
     select_curves,
 )
-from networks.swing import swing_pass
+from networks.sumo.swing import swing_pass
 from vehicles.errors import InputError
 from vehicles.vehicle import Vehicle
 

@@ -51,7 +51,7 @@ class DriveOptions:
     max_restarts
         Restarts of SUMO after a failed simulation step, before the queued runs fail too.
     swing
-        Search a swung path for every run not clear on its lane (:mod:`networks.swing`).
+        Search a swung path for every run not clear on its lane (:mod:`networks.sumo.swing`).
     """
 
     batch_size: int = 100
@@ -125,7 +125,7 @@ class DriveStats:
     sumo_steps
         Simulation steps.
     swing_s, swing_cpu_s
-        The search of swung paths (:mod:`networks.swing`), model and verdicts.
+        The search of swung paths (:mod:`networks.sumo.swing`), model and verdicts.
     swing_candidates, swing_judged
         Swung paths driven, and of those judged (envelope and verdict).
     model_cpu_s, sumo_cpu_s

@@ -5,9 +5,9 @@ from __future__ import annotations
 import pytest
 
 from networks.curves import extract_curves
-from networks.driver import DriveOptions, drive
 from networks.reader import read_network
-from networks.sumo_tools import netconvert_plain
+from networks.sumo.driver import DriveOptions, drive
+from networks.sumo.tools import netconvert_plain
 from tests.networks.corners import corner
 from vehicles.table import bundled_table, load_tables
 

@@ -1,10 +1,10 @@
 """The second pass of a drive: a swung path for every run that does not clear on its lane.
 
-:func:`networks.driver.drive` first drives every run on its lane's centre line. For each
+:func:`networks.sumo.driver.drive` first drives every run on its lane's centre line. For each
 run that is not ``clear`` there, :func:`swing_pass` drives the search's candidates
 (:func:`analysis.path_search.candidates`: the centre line offset toward the outside of the
 turn by a fixed family of profiles), all runs' candidates together in batches of
-:attr:`~networks.runs.DriveOptions.batch_size` (:func:`analysis.tracking.simulate_batch`),
+:attr:`~networks.sumo.runs.DriveOptions.batch_size` (:func:`analysis.tracking.simulate_batch`),
 judges each one the follower could drive against the curve's areas over the whole
 manoeuvre (:func:`analysis.clearance.evaluate` with the candidate's window), and keeps the
 best (:func:`analysis.path_search.rank`; the lane's result wins ties). A candidate the
@@ -39,7 +39,7 @@ from analysis.path_search import (
 )
 from analysis.polyline import Path
 from analysis.tracking import TrackingRun, TrackingSettings, simulate_batch
-from networks.runs import DrivenRun, DriveOptions, DriveStats
+from networks.sumo.runs import DrivenRun, DriveOptions, DriveStats
 from vehicles.errors import InputError
 
 log = logging.getLogger(__name__)
