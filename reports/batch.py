@@ -64,6 +64,8 @@ class Batch:
         Folder for SUMO's FCD output, or ``None``.
     log_level
         The study's logging level, for the worker's own log.
+    swing
+        ``False``: judge the lane path only (:attr:`networks.sumo.runs.DriveOptions.swing`).
     use_sumo
         ``False`` computes the simulate method's runs without replaying them in SUMO (the
         same model, envelopes and verdicts; :attr:`networks.sumo.driver.DriveOptions.use_sumo`).
@@ -79,6 +81,7 @@ class Batch:
     log_level: int = logging.WARNING
     part: str = ""
     use_sumo: bool = True
+    swing: bool = True
 
     def __len__(self) -> int:
         return len(self.pairs)
@@ -220,7 +223,8 @@ def _simulated(batch: Batch, net: Network, items: Sequence[tuple[int, Curve]]
         Path(batch.fcd_dir).mkdir(parents=True, exist_ok=True)
         fcd = Path(batch.fcd_dir) / file_name([batch.network, f"{batch.index:03d}{batch.part}"],
                                               ".fcd.xml")
-    options = DriveOptions(offset_m=batch.clearance_m, fcd_output=fcd, use_sumo=batch.use_sumo)
+    options = DriveOptions(offset_m=batch.clearance_m, fcd_output=fcd, use_sumo=batch.use_sumo,
+                           swing=batch.swing)
     runs = drive(net, [(batch.vehicles[v], c) for v, c in items], options=options)
     return [_driven_record(batch, r) for r in runs]
 

@@ -53,6 +53,7 @@ from reports.exports import EnvelopeRecord
 from reports.file_names import file_name
 from reports.options import (
     add_clearance_option,
+    add_lane_only_option,
     add_selection_options,
     add_table_option,
     add_vehicle_option,
@@ -120,6 +121,7 @@ def add_parser(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParse
     p.add_argument("-o", "--output", type=Path, metavar="DIR",
                    help="write results.csv, envelopes.geojson and trajectories/ here")
     add_clearance_option(p)
+    add_lane_only_option(p)
     p.add_argument("--workers", type=int, default=None, metavar="N",
                    help="worker processes that drive the runs (default: one per core)")
     p.add_argument("--fcd", action="store_true",
@@ -152,7 +154,8 @@ def run(args: argparse.Namespace) -> int:
     vehicles = [table.vehicle(n) for n in dict.fromkeys(args.vehicle)]
     settings = TrackingSettings()
     options = DriveOptions(batch_size=args.batch, offset_m=args.clearance,
-                           use_sumo=not args.no_sumo, sumo_step_s=args.sumo_step)
+                           use_sumo=not args.no_sumo, sumo_step_s=args.sumo_step,
+                           swing=not args.lane_only)
     options.samples_per_step(settings.dt_s)  # a step that does not fit: exit 2 before work
     # the output folder is checked and locked before the network is read
     folder = output_folder(args.output, LAYOUT) if args.output is not None else nullcontext()
