@@ -12,7 +12,11 @@ follower cannot drive within the lock and steering rate in that window is not ju
 ranks as ``cannot-turn``). The driven candidates are judged in two stages: every amplitude
 with the middle apex cut, then the other cuts of the best amplitude so far and of its two
 neighbours; the first ``clear`` one ends that run's search (no later one can be in a better
-tier).
+tier). A run that cannot turn and has no candidate within its room that the follower can
+drive gets the family again with the room unbounded (up to
+:attr:`~analysis.path_search.SwingSearch.max_amplitude_m`): then it ``fails`` by how far the
+best of those leaves the pavement, and is ``cannot-turn`` only when none of them can be
+driven either.
 
 The lane-following result stays beside the chosen one (:attr:`DrivenRun.lane_result`), and
 :attr:`DrivenRun.path` says which was taken (``lane`` or ``swung``). SUMO replays the lane
@@ -23,6 +27,7 @@ from __future__ import annotations
 
 import dataclasses
 import logging
+import math
 import time
 
 import shapely
@@ -67,30 +72,39 @@ def swing_pass(
     t0, c0 = time.perf_counter(), time.process_time()
     for d in out:
         d.lane_result = d.result
-    todo: list[tuple[DrivenRun, Candidate]] = []
-    for d in out:
-        if not needs_swing(d):
-            continue
+    def family(d: DrivenRun, room_m: float | None) -> list[tuple[DrivenRun, Candidate]]:
         c = d.curve
         feature = (c.core_start_m, c.core_end_m)
         try:
             path = paths[c.curve_id]
             side = outside_sign(c.turn_angle_deg)
-            room = outside_room_m(path, feature, side, areas[c.curve_id].paved,
-                                  0.5 * d.vehicle.width_m) if side else 0.0
-            for cand in candidates(path, feature, c.turn_angle_deg, search, room):
-                todo.append((d, cand))
+            if room_m is None:
+                room_m = outside_room_m(path, feature, side, areas[c.curve_id].paved,
+                                        0.5 * d.vehicle.width_m) if side else 0.0
+            return [(d, cand) for cand in candidates(path, feature, c.turn_angle_deg,
+                                                     search, room_m)]
         except (InputError, shapely.errors.ShapelyError) as exc:  # no candidates
             log.info("%s: no swung paths: %s", c.curve_id, exc)
+            return []
+
     driven: dict[int, list[tuple[Candidate, TrackingRun]]] = {}
-    size = options.batch_size
-    for lo in range(0, len(todo), size):
-        chunk = todo[lo:lo + size]
-        runs = simulate_batch([d.vehicle for d, _ in chunk], [c.path for _, c in chunk],
-                              settings)
-        for (d, cand), run in zip(chunk, runs, strict=True):
-            if not feature_reason(run, feature_mask(run, cand.window_m)):
-                driven.setdefault(id(d), []).append((cand, run))
+
+    def drive_all(todo: list[tuple[DrivenRun, Candidate]]) -> None:
+        for lo in range(0, len(todo), options.batch_size):
+            chunk = todo[lo:lo + options.batch_size]
+            runs = simulate_batch([d.vehicle for d, _ in chunk], [c.path for _, c in chunk],
+                                  settings)
+            for (d, cand), run in zip(chunk, runs, strict=True):
+                if not feature_reason(run, feature_mask(run, cand.window_m)):
+                    driven.setdefault(id(d), []).append((cand, run))
+
+    todo = [x for d in out if needs_swing(d) for x in family(d, None)]
+    drive_all(todo)
+    # a run that cannot turn within the pavement's room: the widest swings, beyond it
+    wider = [x for d in out if needs_swing(d) and id(d) not in driven
+             and d.result.verdict == "cannot-turn" for x in family(d, math.inf)]
+    drive_all(wider)
+    todo += wider
     judged: dict[int, list[tuple[Candidate, RunResult | None]]] = {}
     for d in out:
         if needs_swing(d):
