@@ -151,13 +151,14 @@ class Candidate:
     amplitude_m, apex_cut
         The profile's amplitude (outward, m) and apex cut fraction.
     offset_m
-        ``(M,)`` signed offset ``d`` at each point of the centre line (left positive).
+        Signed offset ``d`` at each point of the centre line the path keeps (left
+        positive; all of it unless cropped, :func:`candidates`).
     path
         The offset path, ready for the follower.
     window_m
         ``(start, end)``: the ramps and the feature along ``path`` (m), the part judged.
     station_map
-        ``(M,)`` the offset path's station at each point of the centre line.
+        The offset path's station at each of those points.
     """
 
     amplitude_m: float
@@ -331,9 +332,13 @@ def outside_room_m(path: Path, feature_m: tuple[float, float], side: float,
 
 
 def candidates(path: Path, feature_m: tuple[float, float], turn_angle_deg: float,
-               search: SwingSearch | None = None, room_m: float = math.inf
-               ) -> list[Candidate]:
+               search: SwingSearch | None = None, room_m: float = math.inf,
+               reach_m: float | None = None) -> list[Candidate]:
     """The swung paths of one run, in the search's order (see the module docstring).
+
+    With ``reach_m`` each candidate keeps only the centre line from ``reach_m`` before its
+    ramp in to ``reach_m`` after its ramp out (a vehicle's length and a little more: all a
+    judged sample's body can cover), so that it is driven no further than it is judged.
 
     Examples
     --------
@@ -353,6 +358,13 @@ def candidates(path: Path, feature_m: tuple[float, float], turn_angle_deg: float
 
     >>> candidates(p, (20.0, 26.3), 0.0)
     []
+
+    Cropped 8 m beyond the ramps, the smallest swing (a 6 m ramp) starts 14 m before the
+    feature:
+
+    >>> c = candidates(p, (20.0, 26.3), -90.0, reach_m=8.0)[0]
+    >>> round(float(c.window_m[0]), 6), bool(np.allclose(c.path.xy[0], p.point_at(6.0)))
+    (8.0, True)
     """
     search = search or SwingSearch()
     side = outside_sign(turn_angle_deg)
@@ -363,17 +375,32 @@ def candidates(path: Path, feature_m: tuple[float, float], turn_angle_deg: float
     for amp in search.amplitudes_m(room_m):
         ramp = search.ramp_m(amp)
         a, _, _, e = ramp_bounds(path.length_m, feature_m, ramp)
+        lane, keep = path, slice(None)
+        if reach_m is not None:
+            i0 = int(np.searchsorted(s, a - reach_m, side="right")) - 1
+            i1 = int(np.searchsorted(s, e + reach_m, side="left")) + 1
+            keep = slice(max(i0, 0), min(i1, len(s)))
+            lane = _sub_path(path, keep)
         for cut in search.apex_cuts:
-            d = side * offset_profile(s, feature_m, amp, ramp, cut)
-            if np.min(1.0 - path.curvature_1_m * d) <= MIN_FOLD:
+            d = side * offset_profile(s, feature_m, amp, ramp, cut)[keep]
+            if np.min(1.0 - lane.curvature_1_m * d) <= MIN_FOLD:
                 continue
-            p = offset_path(path, d, name=f"{path.name} (swung {amp:g} m, cut {cut:g})")
-            seg = np.hypot(*np.diff(_moved(path, d), axis=0).T)
+            p = offset_path(lane, d, name=f"{path.name} (swung {amp:g} m, cut {cut:g})")
+            seg = np.hypot(*np.diff(_moved(lane, d), axis=0).T)
             smap = np.concatenate([[0.0], np.cumsum(seg)])
-            window = (float(np.interp(min(a, feature_m[0]), s, smap)),
-                      float(np.interp(max(e, feature_m[1]), s, smap)))
+            ls = lane.station_m
+            window = (float(np.interp(min(a, feature_m[0]) - s[keep][0], ls, smap)),
+                      float(np.interp(max(e, feature_m[1]) - s[keep][0], ls, smap)))
             out.append(Candidate(float(amp), float(cut), d, p, window, smap))
     return out
+
+
+def _sub_path(path: Path, keep: slice) -> Path:
+    """The part ``keep`` of a path, its stations from 0."""
+    st = path.station_m[keep] - path.station_m[keep][0]
+    return Path(path.name, path.xy[keep], None if path.z is None else path.z[keep], st,
+                path.heading_rad[keep], path.curvature_1_m[keep], path.spacing_m,
+                float(st[-1]))
 
 
 def tier(clearance: Clearance | None) -> int:

@@ -81,8 +81,9 @@ def swing_pass(
             if room_m is None:
                 room_m = outside_room_m(path, feature, side, areas[c.curve_id].paved,
                                         0.5 * d.vehicle.width_m) if side else 0.0
+            reach = d.vehicle.overall_length_m + 2.0  # all a judged sample's body covers
             return [(d, cand) for cand in candidates(path, feature, c.turn_angle_deg,
-                                                     search, room_m)]
+                                                     search, room_m, reach)]
         except (InputError, shapely.errors.ShapelyError) as exc:  # no candidates
             log.info("%s: no swung paths: %s", c.curve_id, exc)
             return []
