@@ -30,7 +30,7 @@ def nice_scale_m(span_m: float) -> float:
     return float(base)
 
 
-def _fill(ax, geom, **kw) -> None:
+def fill_geometry(ax, geom, **kw) -> None:
     """Fill (multi)polygons, holes left open."""
     from matplotlib.patches import PathPatch
     from matplotlib.path import Path as MplPath
@@ -44,15 +44,65 @@ def _fill(ax, geom, **kw) -> None:
         ax.add_patch(PathPatch(path, **kw))
 
 
+_fill = fill_geometry  # the old private name
+
+
+#: Colours of the base plan (a CAD-like drawing: grey pavement, white lane lines, black
+#: edge of pavement).
+PAVEMENT = "#d5d5d5"
+JUNCTION = "#c4c4c4"
+NON_ROAD = "#e8dcb0"
+EDGE_OF_PAVEMENT = "#111111"
+LANE_LINE = "#ffffff"
+#: Above this many lanes in view the lane lines are left out (an overview of a city).
+MAX_MARKED_LANES = 600
+
+
+def pavement_area(net: Network, lane_ids: list[str], junctions: list) -> shapely.Geometry:
+    """The paved surface of road lanes and junctions: one area, seams between lanes closed.
+
+    Its boundary is the edge of pavement (curb): lanes of one road and the junctions
+    between them leave no line inside it.
+
+    Examples
+    --------
+    >>> from networks.reader import Lane, Network, Location
+    >>> shape = lambda y: np.array([[0, y, 0], [10, y, 0.0]])
+    >>> lanes = {f"e_{i}": Lane(f"e_{i}", "e", i, 3.0, "normal", frozenset(), shape(3.0 * i),
+    ...                         10.0, 13.9) for i in range(2)}
+    >>> net = Network(None, lanes, {}, [], {}, [], Location())
+    >>> a = pavement_area(net, list(lanes), [])
+    >>> a.geom_type, round(a.area, 6), len(a.interiors)
+    ('Polygon', 60.0, 0)
+    >>> pavement_area(net, [], []).is_empty                         # nothing paved
+    True
+    """
+    polys = list(lane_polygons(net, lane_ids)) if lane_ids else []
+    polys += [shapely.Polygon(j.shape[:, :2]) for j in junctions if len(j.shape) >= 3]
+    if not polys:
+        return shapely.Polygon()
+    polys = [shapely.make_valid(p) for p in polys]
+    seam = 0.05  # closes the hair-line gaps where a lane meets its junction
+    area = shapely.union_all(shapely.buffer(np.array(polys, dtype=object), seam,
+                                            join_style="mitre"))
+    return shapely.buffer(area, -seam, join_style="mitre")
+
+
 def plot_plan(
     net: Network,
     ax,
     title: str | None = None,
     bounds: tuple[float, float, float, float] | None = None,
+    decorate: bool = True,
 ) -> None:
     """Draw a network's plan on a matplotlib axis (metres, x east, y north).
 
-    ``bounds`` (x min, x max, y min, y max) zooms in; the default shows everything.
+    The pavement in grey with the lane lines in white (between lanes of one road and of
+    the two directions) and the edge of pavement in black, only where the pavement ends;
+    lanes closed to road vehicles (sidewalks, bicycle lanes) in sand. ``bounds``
+    (x min, x max, y min, y max) zooms in; the default shows everything. ``decorate`` adds
+    axis labels, a scale bar and a north arrow in metres (the reports draw their own in the
+    report's units).
     """
     lanes = net.lanes
     junctions = list(net.junctions.values())
@@ -70,33 +120,43 @@ def plot_plan(
         junctions = [j for j in junctions if near(j.shape)]
     road = [k for k, lane in lanes.items() if lane.allows_road_vehicles()]
     other = [k for k, lane in lanes.items() if not lane.allows_road_vehicles()]
+    for poly in lane_polygons(net, other) if other else []:
+        fill_geometry(ax, shapely.make_valid(poly), color=NON_ROAD, lw=0, zorder=1)
+    paved = pavement_area(net, road, junctions)
+    fill_geometry(ax, paved, color=PAVEMENT, lw=0, zorder=1.5)
     for j in junctions:
         if len(j.shape) >= 3:
-            ax.fill(j.shape[:, 0], j.shape[:, 1], color="#a8a8a8", lw=0, zorder=1)
-    for ids, colour in ((other, "#d9c27a"), (road, "#c8c8c8")):
-        for poly in lane_polygons(net, ids):
-            _fill(ax, shapely.make_valid(poly), color=colour, lw=0, zorder=2)
-    for k in road:
-        shape = net.lanes[k].shape
-        internal = net.lanes[k].function == "internal"
-        ax.plot(
-            shape[:, 0],
-            shape[:, 1],
-            color="#d62728" if internal else "#1f4e79",
-            lw=0.5 if internal else 0.8,
-            ls="--" if internal else "-",
-            zorder=3,
-        )
+            ax.fill(j.shape[:, 0], j.shape[:, 1], color=JUNCTION, lw=0, zorder=1.6)
+    normal = [k for k in road if not net.lanes[k].is_internal]
+    if len(normal) <= MAX_MARKED_LANES:
+        for k in normal:
+            lane = net.lanes[k]
+            line = shapely.LineString(lane.shape[:, :2])
+            for side in (1, -1):
+                edge = shapely.offset_curve(line, side * lane.width_m / 2)
+                for part in getattr(edge, "geoms", [edge]):
+                    xy = np.asarray(part.coords)
+                    if len(xy) >= 2:
+                        ax.plot(xy[:, 0], xy[:, 1], color=LANE_LINE, lw=0.7,
+                                ls=(0, (4, 3)), zorder=2)
+    for poly in getattr(paved, "geoms", [paved]):
+        if poly.is_empty:
+            continue
+        for ring in [poly.exterior, *poly.interiors]:
+            xy = np.asarray(ring.coords)
+            ax.plot(xy[:, 0], xy[:, 1], color=EDGE_OF_PAVEMENT, lw=1.1, zorder=3)
     ax.set_aspect("equal")
     if bounds is not None:
         ax.set_xlim(bounds[0], bounds[1])
         ax.set_ylim(bounds[2], bounds[3])
     else:
         ax.autoscale_view()
-    ax.set_xlabel("x [m] (east)")
-    ax.set_ylabel("y [m] (north)")
     if title:
         ax.set_title(title)
+    if not decorate:
+        return
+    ax.set_xlabel("x [m] (east)")
+    ax.set_ylabel("y [m] (north)")
     x0, x1 = ax.get_xlim()
     y0, y1 = ax.get_ylim()
     height = y1 - y0

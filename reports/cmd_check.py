@@ -35,12 +35,14 @@ from reports.options import (
     add_clearance_option,
     add_executor_options,
     add_lane_only_option,
+    add_net_option,
     add_selection_options,
     add_table_option,
     add_waivers_option,
     selection_of,
 )
 from reports.study import METHODS, VERDICT_ORDER, Study, run_study
+from reports.text_table import counted
 from reports.waivers import Waived, read_waivers, study_waivers
 from vehicles.errors import InputError
 from vehicles.table import load_tables
@@ -57,8 +59,7 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
                     "on bad input. With --expect, compare with a golden file of verdicts "
                     "instead: worse verdicts, new and gone curves exit 1.",
     )
-    p.add_argument("-n", "--net", action="append", metavar="NET", required=True,
-                   help="SUMO network (repeatable)")
+    add_net_option(p, repeatable=True, required=True, help="SUMO network (repeatable)")
     p.add_argument("--design-vehicle", action="append", metavar="NAME", required=True,
                    help="design vehicle (repeatable)")
     add_table_option(p)
@@ -139,7 +140,7 @@ def run(args: argparse.Namespace) -> int:
     table = load_tables(args.table, args.design_vehicle)
     selection = selection_of(args)
     golden = read_golden(Path(args.expect)) if args.expect else None
-    waivers = (read_waivers(Path(args.waivers), load_tables(args.table).names)
+    waivers = (read_waivers(Path(args.waivers), load_tables(args.table, warn=False).names)
                if args.waivers else [])
     study = run_study(args.net, table, args.method, args.clearance, selection=selection,
                       workers=args.workers, scheduler=args.scheduler,
@@ -147,7 +148,7 @@ def run(args: argparse.Namespace) -> int:
     frame = study.frame()
     if not selection.is_empty:
         print(f"selection: {selection.describe()}: "
-              f"{sum(len(n.curves) for n in study.networks)} curves")
+              f"{counted(sum(len(n.curves) for n in study.networks), 'curve')}")
     if args.write_golden:
         write_text_atomic(args.write_golden, golden_text(frame))
         print(f"wrote {args.write_golden} ({len(frame)} verdicts)")

@@ -13,6 +13,7 @@ from pathlib import Path
 from networks.curves import DEFAULT_KINDS, KINDS, Curve, CurveOptions, extract_curves
 from networks.reader import read_network
 from reports.atomic import write_text_atomic
+from reports.options import add_net_option, add_output_option
 from reports.text_table import format_table
 from vehicles.errors import InputError
 
@@ -28,6 +29,7 @@ COLUMNS = (
     "lane_width",
     "max_grade_pct",
     "max_grade_change_pct",
+    "movement",
 )
 
 
@@ -42,7 +44,7 @@ def add_parser(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParse
             "Lengths in metres, angles in degrees (left turns positive)."
         ),
     )
-    parser.add_argument("-n", "--net", required=True, type=Path, help=".net.xml or .net.xml.gz")
+    add_net_option(parser, required=True, type=Path)
     parser.add_argument(
         "--kind",
         action="append",
@@ -50,7 +52,8 @@ def add_parser(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParse
         help="only curves of this kind (repeat for several; default: all but uturn, "
         "netconvert's automatic turnarounds)",
     )
-    parser.add_argument("-o", "--output", type=Path, help="write the table as CSV here")
+    add_output_option(parser, folder=False, metavar="OUT.csv", type=Path,
+                      help="write the table as CSV here")
     parser.add_argument(
         "--approach",
         type=float,
@@ -93,7 +96,32 @@ def curve_row(curve: Curve) -> dict[str, str]:
         "lane_width": _num(curve.lane_width_m, 2),
         "max_grade_pct": _num(curve.max_grade_pct, 2),
         "max_grade_change_pct": _num(curve.max_grade_change_pct, 2),
+        "movement": movement(curve.kind, curve.turn_angle_deg, curve.min_radius_m),
     }
+
+
+def movement(kind: str, turn_angle_deg: float, min_radius_m: float) -> str:
+    """The movement in words: ``straight on``, ``left 90°``, ``right 45°``, ``U-turn``.
+
+    Left turns are positive (DESIGN.md §3).
+
+    Examples
+    --------
+    >>> movement("turn", 0.0, float("inf")), movement("turn", -90.0, 5.7)
+    ('straight on', 'right 90°')
+    >>> movement("turn", 178.0, 4.0), movement("uturn", 175.0, 3.0)
+    ('U-turn', 'U-turn')
+    >>> movement("roundabout", 270.4, 12.0)
+    'left 270°'
+    >>> movement("turn", 3.0, 150.0)  # a slight bend through the junction
+    'left 3°'
+    """
+    if not math.isfinite(min_radius_m) or (abs(turn_angle_deg) < 0.5 and kind == "turn"):
+        return "straight on"
+    if kind == "uturn" or (kind == "turn" and abs(turn_angle_deg) >= 160.0):
+        return "U-turn"
+    side = "left" if turn_angle_deg > 0 else "right"
+    return f"{side} {abs(turn_angle_deg):.0f}°"
 
 
 def _num(value: float, digits: int) -> str:
@@ -110,10 +138,13 @@ def print_summary(net_path: Path, rows: Sequence[dict[str, str]], limit: int) ->
     if not rows:
         return
     shown = sorted(rows, key=lambda r: (float(r["min_radius"]), r["curve_id"]))[: max(limit, 0)]
-    cols = ("curve_id", "kind", "min_radius", "turn_angle_deg", "length", "lane_width")
-    cols += ("max_grade_pct",)
-    heads = ("curve", "kind", "R min [m]", "turn [deg]", "length [m]", "width [m]", "grade [%]")
-    print("\n".join(format_table(shown, cols, heads, 2)))
+    shown = [dict(r, min_radius="straight" if r["min_radius"] == "inf" else r["min_radius"])
+             for r in shown]
+    cols = ("curve_id", "kind", "movement", "min_radius", "turn_angle_deg", "length",
+            "lane_width", "max_grade_pct")
+    heads = ("curve", "kind", "movement", "R min [m]", "turn [deg]", "length [m]", "width [m]",
+             "grade [%]")
+    print("\n".join(format_table(shown, cols, heads, 3)))
     if len(rows) > len(shown):
         print(f"... {len(rows) - len(shown)} more (the tightest are shown; see --output)")
 

@@ -17,8 +17,9 @@ is replaced only when it is an earlier simulate output, :data:`LAYOUT`):
     The model's states of each run (:data:`TRAJECTORY_COLUMNS`), named by
     :func:`reports.file_names.file_name` (letters, digits, ``.``, ``-`` and ``_``; a short
     hash of the ids when anything else was replaced or the name would be too long).
-``DIR/fcd.xml`` and ``DIR/replay.sumocfg`` (with ``--fcd``)
-    SUMO's FCD output and a configuration to replay it in sumo-gui (the command is printed).
+``DIR/fcd.xml``, ``DIR/replay.sumocfg`` and ``DIR/replay.sh`` (with ``--fcd``)
+    SUMO's FCD output, a configuration and a script to replay it in sumo-gui (the command,
+    with SUMO_HOME set to the installed package, is printed).
 """
 
 from __future__ import annotations
@@ -27,6 +28,9 @@ import argparse
 import csv
 import io
 import math
+import os
+import shlex
+import sys
 from collections.abc import Iterable, Sequence
 from contextlib import nullcontext
 from dataclasses import replace
@@ -39,13 +43,13 @@ from networks.curves import DEFAULT_KINDS, Curve
 from networks.reader import Network, read_network
 from networks.selection import check_junctions, load_selected
 from networks.sumo.driver import (
-    REPLAY_COMMAND,
     DrivenRun,
     DriveOptions,
     replay_config,
     select_curves,
 )
-from reports.atomic import write_text_atomic
+from networks.sumo.tools import sumo_home
+from reports.atomic import current_umask, write_text_atomic
 from reports.batch import DriveTask, detached, lost_drive, run_drive, split_drive
 from reports.executor import Executor, LocalExecutor, run_isolated
 from reports.export_geojson import write_geojson
@@ -54,6 +58,8 @@ from reports.file_names import file_name
 from reports.options import (
     add_clearance_option,
     add_lane_only_option,
+    add_net_option,
+    add_output_option,
     add_selection_options,
     add_table_option,
     add_vehicle_option,
@@ -94,7 +100,8 @@ TRAILER_COLUMNS = ("xt_m", "yt_m", "theta_t_rad", "psi_rad")
 #: What simulate writes into its output folder (the folder it may replace holds nothing else).
 LAYOUT = Layout(
     "simulate",
-    files=frozenset({"results.csv", "envelopes.geojson", "fcd.xml", "replay.sumocfg"}),
+    files=frozenset({"results.csv", "envelopes.geojson", "fcd.xml", "replay.sumocfg",
+                     "replay.sh"}),
     folders={"trajectories": (".csv",)},
     signature=("results.csv", ",".join(RESULT_COLUMNS[:4])),
 )
@@ -112,14 +119,14 @@ def add_parser(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParse
             "or cannot-turn. Lengths in metres."
         ),
     )
-    p.add_argument("-n", "--net", required=True, type=Path, help=".net.xml or .net.xml.gz")
+    add_net_option(p, required=True, type=Path)
     add_table_option(p)
     add_vehicle_option(p, required=True, help="vehicle to drive (repeatable)")
     p.add_argument("--curve", action="append", metavar="ID",
                    help="only this curve (repeatable; ids as `clearance curves` lists them)")
     add_selection_options(p, kinds_default="all but uturn")
-    p.add_argument("-o", "--output", type=Path, metavar="DIR",
-                   help="write results.csv, envelopes.geojson and trajectories/ here")
+    add_output_option(p, folder=True, metavar="DIR", type=Path,
+                      help="write results.csv, envelopes.geojson and trajectories/ here")
     add_clearance_option(p)
     add_lane_only_option(p)
     p.add_argument("--workers", type=int, default=None, metavar="N",
@@ -182,10 +189,13 @@ def run(args: argparse.Namespace) -> int:
                                   replay_config(Path(net.path).resolve(),
                                                 options.samples_per_step(settings.dt_s)
                                                 * settings.dt_s))
+                write_text_atomic(staging / "replay.sh", replay_script())
+                os.chmod(staging / "replay.sh", 0o777 & ~current_umask())
     if args.output is not None:
         if args.fcd:
-            print("replay in sumo-gui: " + REPLAY_COMMAND.format(
-                config=args.output / "replay.sumocfg", fcd=args.output / "fcd.xml"))
+            print("replay in sumo-gui: " + replay_command(args.output / "replay.sumocfg",
+                                                          args.output / "fcd.xml"))
+            print(f"  (or: sh {shlex.quote(str(args.output / 'replay.sh'))})")
         print(f"wrote {len(rows)} run(s) to {args.output}")
     return 0
 
@@ -211,6 +221,34 @@ def drive_in_workers(net: Network, pairs: Sequence[tuple[Vehicle, Curve]],
                                                      lost_drive, ex.share(net.path))]
     done = {(d.vehicle.name, d.curve.curve_id): d for runs in finished for d in runs}
     return [done[(v.name, c.curve_id)] for v, c in pairs]
+
+
+# ------------------------------------------------------------------------------- replay
+
+
+def replay_command(config: Path, fcd: Path) -> str:
+    """The shell command that replays ``fcd`` in sumo-gui with SUMO's ``fcdReplay.py``: it
+    sets ``SUMO_HOME`` to the installed eclipse-sumo package (a pip install sets none) and
+    runs the script with this Python, which has sumolib and traci.
+
+    >>> cmd = replay_command(Path("out/replay.sumocfg"), Path("out/fcd.xml"))
+    >>> cmd.startswith("SUMO_HOME=") and cmd.endswith("-k out/replay.sumocfg -f out/fcd.xml")
+    True
+    """
+    home = sumo_home()
+    return (f"SUMO_HOME={shlex.quote(str(home))} {shlex.quote(sys.executable)} "
+            f"{shlex.quote(str(home / 'tools' / 'fcdReplay.py'))} "
+            f"-k {shlex.quote(str(config))} -f {shlex.quote(str(fcd))}")
+
+
+def replay_script() -> str:
+    """``replay.sh``: the replay of :func:`replay_command`, from the folder it lies in."""
+    home = sumo_home()
+    return ("#!/bin/sh\n# Replays fcd.xml in sumo-gui (written by clearance simulate --fcd).\n"
+            'cd "$(dirname "$0")" || exit 1\n'
+            f"SUMO_HOME={shlex.quote(str(home))} exec {shlex.quote(sys.executable)} "
+            f"{shlex.quote(str(home / 'tools' / 'fcdReplay.py'))} "
+            '-k replay.sumocfg -f fcd.xml "$@"\n')
 
 
 # ------------------------------------------------------------------------------- rows

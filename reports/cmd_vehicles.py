@@ -16,7 +16,13 @@ import pandas as pd
 from analysis.design_turn import design_turn_inside_radius
 from analysis.turning import turning_metrics
 from reports.atomic import write_text_atomic
-from reports.options import add_table_option, add_units_option, add_vehicle_option
+from reports.options import (
+    add_output_option,
+    add_table_option,
+    add_units_option,
+    add_vehicle_option,
+)
+from reports.text_table import counted
 from reports.units import to_output_units
 from vehicles.table import load_tables
 
@@ -49,7 +55,7 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
     add_table_option(p)
     add_vehicle_option(p)
     add_units_option(p)
-    p.add_argument("-o", "--output", metavar="OUT.csv", help="write the table as CSV")
+    add_output_option(p, folder=False, metavar="OUT.csv", help="write the table as CSV")
     p.set_defaults(run=run)
 
 
@@ -98,7 +104,8 @@ def run(args: argparse.Namespace) -> int:
                      for c in SHOWN]
     with pd.option_context("display.width", 250, "display.max_columns", 40,
                            "display.max_rows", 500):
-        print(f"Full-lock turning geometry ({len(frame)} vehicles; lengths in {args.units})")
+        print(f"Full-lock turning geometry ({counted(len(frame), 'vehicle')}; "
+              f"lengths in {args.units})")
         print(shown.to_string(index=False))
     if args.output:
         text = frame.to_csv(index=False, float_format="%.6g", lineterminator="\n", na_rep="")

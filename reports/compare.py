@@ -16,6 +16,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
+from analysis.design_turn import design_turn_inside_radius
 from analysis.turning import steering_sweep, turning_metrics
 from reports.plotting import new_figure, save
 from reports.units import length_scale, to_output_units
@@ -24,13 +25,27 @@ from vehicles.table import VehicleTable
 COLUMNS = ["vehicle", "category", "wheelbase", "width", "length", "max_steer_deg",
            "ackermann_angle_deg", "min_radius", "ctr", "curb_to_curb", "wall_to_wall",
            "inside_radius", "swept_width", "offtracking"]
+#: A combination's own columns (empty for a single unit): ``design_inside_radius`` of the
+#: 180° design turn (:mod:`analysis.design_turn`, the whole combination, transient), then
+#: with its trailer at full lock in steady state, ``steady_state`` false where it has none
+#: (the trailer would keep cutting in).
+COMBINATION_COLUMNS = ["design_inside_radius", "steady_state", "trailer_articulation_deg",
+                       "trailer_inside_radius", "combination_inside_radius",
+                       "combination_swept_width"]
 
 
 def comparison_table(table: VehicleTable, units: str = "m") -> pd.DataFrame:
     """One row per model, in ``units``, sorted by wall-to-wall diameter."""
     m = to_output_units(turning_metrics(table), units)
     m.insert(1, "category", table.frame["category"].to_numpy())
-    out = m[COLUMNS].sort_values("wall_to_wall", kind="stable").reset_index(drop=True)
+    cols = list(COLUMNS)
+    if "steady_state" in m:  # a table with combinations
+        cols += COMBINATION_COLUMNS
+        design = design_turn_inside_radius(table.frame, 180.0)
+        m["design_inside_radius"] = design["inside_radius_m"].to_numpy() / length_scale(units)
+        single = m["trailer_inside_radius"].isna() & m["steady_state"].astype(bool)
+        m["steady_state"] = m["steady_state"].where(~single, None)
+    out = m[cols].sort_values("wall_to_wall", kind="stable").reset_index(drop=True)
     out.insert(len(out.columns), "units", units)
     return out
 
@@ -39,45 +54,92 @@ def _sweeps(table: VehicleTable, n: int = 200) -> dict[str, pd.DataFrame]:
     return {name: steering_sweep(table, name, n).iloc[1:] for name in table.names}
 
 
-def _colours(n: int) -> list[tuple[float, float, float, float]]:
-    import matplotlib
-
-    cmap = matplotlib.colormaps["tab20"]
-    return [cmap(i % 20) for i in range(n)]
+#: At most this many lines in one panel of a figure over the Ackermann angle.
+PANEL_LINES = 8
 
 
-def _line_styles(n: int) -> list[str]:
-    return ["-", "--", ":", "-."][: max(1, (n + 19) // 20)] * 20
+def panels_of(names: list[str], categories: list[str], size: int = PANEL_LINES
+              ) -> list[tuple[str, list[str]]]:
+    """The models grouped for small multiples: by category, a category of more than
+    ``size`` models cut into panels of ``size``, small categories of one kind merged.
+
+    Examples
+    --------
+    >>> panels_of(["a", "b", "c"], ["car", "car", "bus"], 2)
+    [('car', ['a', 'b']), ('bus', ['c'])]
+    >>> [t for t, _ in panels_of([f"c{i}" for i in range(5)], ["car"] * 5, 2)]
+    ['car (1 of 3)', 'car (2 of 3)', 'car (3 of 3)']
+    >>> panels_of([], [])
+    []
+    """
+    groups: dict[str, list[str]] = {}
+    for n, c in zip(names, categories, strict=True):
+        groups.setdefault(c or "other", []).append(n)
+    # small categories (fewer than half a panel) share panels, in order
+    out: list[tuple[str, list[str]]] = []
+    small: list[tuple[str, str]] = []
+    for cat, members in groups.items():
+        if len(members) * 2 < size and len(groups) > 1:
+            small += [(cat, m) for m in members]
+            continue
+        k = -(-len(members) // size)  # panels, filled evenly
+        cuts = [round(i * len(members) / k) for i in range(k + 1)]
+        chunks = [members[cuts[i]:cuts[i + 1]] for i in range(k)]
+        for k, chunk in enumerate(chunks, start=1):
+            out.append((cat if len(chunks) == 1 else f"{cat} ({k} of {len(chunks)})", chunk))
+    for i in range(0, len(small), size):
+        part = small[i:i + size]
+        cats = list(dict.fromkeys(c for c, _ in part))
+        out.append((", ".join(cats) if len(cats) <= 3 else "other vehicles",
+                    [m for _, m in part]))
+    return out
 
 
 def _plot_over_theta(table: VehicleTable, stem: str | Path, units: str, column: str,
                      ylabel: str, title: str, clip: bool) -> list[Path]:
-    """One line per model of ``column`` (metres) against the Ackermann angle, to full lock.
+    """``column`` (metres) of every model against the Ackermann angle, to full lock: small
+    multiples of at most :data:`PANEL_LINES` models (by category), each line its own
+    colour within a panel and labelled at its end (full lock).
 
     ``clip`` leaves out the first 0.2 degrees (where rho tends to infinity) and limits the
-    axis to six times the smallest value of any model.
+    axis to six times the panel's smallest value.
     """
+    import matplotlib
+
     scale = length_scale(units)
-    fig, ax = new_figure(7.5, 4.8)
     sweeps = _sweeps(table)
-    styles = _line_styles(len(sweeps))
-    top = 0.0
-    for i, ((name, s), colour) in enumerate(zip(sweeps.items(), _colours(len(sweeps)),
-                                                strict=True)):
-        theta = np.degrees(s.ackermann_angle_rad.to_numpy())
-        keep = theta > 0.2 if clip else np.ones(len(theta), dtype=bool)
-        values = s[column].to_numpy()[keep] / scale
-        ax.plot(theta[keep], values, color=colour, linestyle=styles[i // 20], lw=1.2,
-                label=name)
-        top = max(top, float(values.min()) * 6)
-    ax.set_xlabel("Ackermann angle ϑ = δ_inner − δ_outer (degrees)")
-    ax.set_ylabel(ylabel)
-    ax.set_title(title)
-    if clip:
-        ax.set_ylim(0, top)
-    ax.set_xlim(left=0)
-    ax.legend(loc="center left", bbox_to_anchor=(1.01, 0.5), ncol=1 + len(sweeps) // 26,
-              frameon=False)
+    cats = list(table.frame["category"].fillna("").astype(str))
+    panels = panels_of(list(sweeps), cats)
+    ncols = min(3, len(panels))
+    nrows = -(-len(panels) // ncols)
+    fig, _ = new_figure(4.2 * ncols + 0.6, 3.3 * nrows + 0.8)
+    fig.clf()
+    axes = fig.subplots(nrows, ncols, squeeze=False)
+    for ax in axes.flat[len(panels):]:
+        ax.set_visible(False)
+    cmap = matplotlib.colormaps["tab10"]
+    for ax, (name, members) in zip(axes.flat, panels, strict=False):
+        top = 0.0
+        for i, model in enumerate(members):
+            s = sweeps[model]
+            theta = np.degrees(s.ackermann_angle_rad.to_numpy())
+            keep = theta > 0.2 if clip else np.ones(len(theta), dtype=bool)
+            values = s[column].to_numpy()[keep] / scale
+            ax.plot(theta[keep], values, color=cmap(i % 10), lw=1.2, label=model)
+            top = max(top, float(values.min()) * 6)
+        ax.set_title(name, fontsize=8.5)
+        ax.set_xlim(left=0)
+        if clip:
+            ax.set_ylim(0, top)
+        ax.tick_params(labelsize=7)
+        ax.legend(fontsize=6, frameon=False, loc="upper right" if clip else "upper left")
+    for ax in axes[-1]:
+        ax.set_xlabel("Ackermann angle ϑ = δ_inner − δ_outer (°)", fontsize=7.5)
+    for ax in axes[:, 0]:
+        ax.set_ylabel(ylabel, fontsize=7.5)
+    fig.suptitle(f"{title} ({len(sweeps)} models, in panels of at most {PANEL_LINES})",
+                 fontsize=10)
+    fig.tight_layout()
     return save(fig, stem)
 
 

@@ -10,8 +10,11 @@ beside it (SVG versions are there too).
 from __future__ import annotations
 
 import base64
+import hashlib
 import html
+import io
 import math
+import re
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -20,6 +23,7 @@ import pandas as pd
 from reports.figures import COLOURS, plot_curve, plot_network, worst_by_curve
 from reports.file_names import file_name
 from reports.study import VERDICT_ORDER, Study
+from reports.text_table import counted
 from reports.units import length_scale
 from reports.waivers import Waived
 
@@ -35,6 +39,16 @@ SYMBOL = {"clear": "✓", "encroaches": "~", "fails": "✗", "cannot-turn": "⊘
 
 
 @dataclass
+class CurveEntry:
+    """One failing or tight curve of a section: its runs and its figure."""
+
+    curve_id: str
+    figure: Path | None
+    runs: list  # RunRecord, worst first
+    drawn: list[str]  # the vehicles the figure shows
+
+
+@dataclass
 class Section:
     """One network's part of the report."""
 
@@ -46,6 +60,12 @@ class Section:
     all_clear: int
     curve_figures: list[tuple[str, Path, str]] = field(default_factory=list)
     omitted: int = 0
+    #: Every failing or tight curve in matrix order: curve id, its figure (None beyond
+    #: :data:`MAX_CURVE_FIGURES`), every run on it worst first, the vehicles drawn.
+    curves: list[CurveEntry] = field(default_factory=list)
+    #: Vehicles, curves and runs of the network.
+    n_vehicles: int = 0
+    n_curves: int = 0
     #: Waived runs: curve id, vehicle, verdict, margin (m), reason, waiver's file:line.
     waived: list[tuple[str, str, str, float, str, str]] = field(default_factory=list)
 
@@ -67,7 +87,7 @@ def build_sections(study: Study, folder: Path, units: str = "m",
     for nc in study.networks:
         f = frame[frame.network == nc.name]
         # stems: plotting.save appends .png and .svg
-        plan = plot_network(nc, f, figs / file_name([nc.name, "plan"], room=4))[0]
+        plan = plot_network(nc, f, figs / file_name([nc.name, "plan"], room=4), units=units)[0]
         worst = worst_by_curve(f)
         counts = {v: int((f.verdict == v).sum()) for v in sorted(VERDICT_ORDER,
                                                                    key=VERDICT_ORDER.get)
@@ -99,10 +119,17 @@ def build_sections(study: Study, folder: Path, units: str = "m",
             recs.sort(key=lambda r: (VERDICT_ORDER[r.verdict], r.margin_m))
             shown = pick_envelopes(recs)
             stem = figs / file_name([nc.name, "curve", cid], room=4)
-            png = plot_curve(nc, by_id[cid], shown, stem)[0]
+            png = plot_curve(nc, by_id[cid], shown, stem, table=study.table, units=units)[0]
             caption = ", ".join(f"{r.vehicle} {r.verdict} ({r.margin_m / scale:+.2f} {units})"
                                 for r in shown)
             section.curve_figures.append((cid, png, caption))
+            section.curves.append(CurveEntry(cid, png, recs, [r.vehicle for r in shown]))
+        for cid in [c for c in worst.curve_id if c in bad][len(picked):]:
+            recs = [r for r in study.records if r.network == nc.name and r.curve_id == cid]
+            recs.sort(key=lambda r: (VERDICT_ORDER[r.verdict], r.margin_m))
+            section.curves.append(CurveEntry(cid, None, recs, []))
+        section.n_vehicles = f.vehicle.nunique()
+        section.n_curves = len(nc.curves)
         sections.append(section)
     return sections
 
@@ -159,8 +186,9 @@ def _fmt_margin(m: float, units: str) -> str:
 def markdown(study: Study, sections: list[Section], folder: Path, units: str = "m") -> str:
     """``report.md``: the same content as the HTML, figures linked as PNG (SVG beside)."""
     lines = [f"# Clearance report ({study.method})", "",
-             f"{len(study.records)} runs: {len(study.table)} vehicles × the curves of "
-             f"{len(sections)} network(s); clearance offset {study.clearance_m:g} m. "
+             f"{counted(len(study.records), 'run')}: {counted(len(study.table), 'vehicle')} "
+             f"× the curves of {counted(len(sections), 'network')}; clearance offset "
+             f"{study.clearance_m:g} m. "
              "Verdicts, worst first: cannot-turn (the steered axle cannot follow the centre "
              "line within the lock and steering rate), fails (the swept path leaves the "
              "pavement), encroaches (it leaves its own lanes), clear. Margins in "
@@ -173,13 +201,18 @@ def markdown(study: Study, sections: list[Section], folder: Path, units: str = "
         lines += [f"## {s.name}", "",
                   "| " + " | ".join(s.counts) + " |", "|" + "---|" * len(s.counts),
                   "| " + " | ".join(str(v) for v in s.counts.values()) + " |", "",
-                  f"![plan of {s.name}]({_rel(s.plan, folder)})", "",
-                  "Worst curves (numbered on the plan):", ""]
+                  f"![plan of {s.name}]({_rel(s.plan, folder)})", ""]
+        worst = []
         for i, r in enumerate(s.worst.head(8).itertuples(), start=1):
             if r.verdict == "clear" and r.margin_m > TIGHT_M:
                 break
-            lines.append(f"{i}. `{r.curve_id}`: {r.vehicle} {r.verdict} "
-                         f"({_fmt_margin(r.margin_m, units)})")
+            worst.append(f"{i}. `{r.curve_id}`: {r.vehicle} {r.verdict}, "
+                         f"{margin_words(r.margin_m, units)}")
+        if worst:
+            lines += ["Worst curves (numbered on the plan):", "", *worst]
+        else:
+            lines.append(f"Every curve is clear for every vehicle with at least {TIGHT_M} m "
+                         "to spare.")
         lines += ["", f"### Vehicle × curve matrix ({len(s.matrix)} failing or tight curves; "
                   f"{s.all_clear} curves clear for every vehicle with at least "
                   f"{TIGHT_M} m to spare are left out)", ""]
@@ -205,9 +238,15 @@ def markdown(study: Study, sections: list[Section], folder: Path, units: str = "
                       f"{_md_cell(reason)} | {_md_cell(where)} |"
                       for cid, v, verdict, m, reason, where in s.waived]
             lines.append("")
-        for cid, png, caption in s.curve_figures:
-            lines += [f"### `{cid}`", "", f"![{cid}]({_rel(png, folder)})", "",
-                      caption, ""]
+        for c in s.curves:
+            if c.figure is None:
+                continue
+            lines += [f"### `{c.curve_id}`", "", f"![{c.curve_id}]({_rel(c.figure, folder)})",
+                      "", f"Every vehicle, worst first (the figure draws "
+                      f"{counted(len(c.drawn), 'envelope')}):", ""]
+            lines += [f"- {_md_cell(run_words(r, units))}"
+                      + (" (drawn)" if r.vehicle in c.drawn else "") for r in c.runs]
+            lines.append("")
         if s.omitted:
             lines += [f"({s.omitted} more failing or tight curves are in the matrix and "
                       "in clearance.csv, without a figure.)", ""]
@@ -215,91 +254,271 @@ def markdown(study: Study, sections: list[Section], folder: Path, units: str = "
               "- `clearance.csv`: one row per network × vehicle × curve",
               "- `summary.json`: counts by verdict per network and vehicle, inputs with "
               "SHA-256, versions",
-              "- `swept.geojson`: envelopes for GIS; `swept.add.xml`: SUMO polygons "
-              "(`sumo-gui -n NET -a swept.add.xml`); `swept.dxf`: one layer per vehicle",
+              "- `exports/`: per network `NET.add.xml` (`sumo-gui -n NET -a "
+              "exports/NET.add.xml`), `NET.dxf` (CAD: base plan, layers per vehicle) and "
+              "`NET.geojson` (GIS; `NET.local-metres.geojson` without a projection)",
               "- `figures/`: every figure as PNG and SVG", ""]
     return "\n".join(lines)
 
 
+def margin_words(m: float, units: str = "m", what: str = "its lanes") -> str:
+    """A margin in words: how far inside or beyond ``what``.
+
+    Examples
+    --------
+    >>> margin_words(-0.2749), margin_words(0.41)
+    ('0.27 m beyond its lanes', '0.41 m inside its lanes')
+    >>> margin_words(float("nan"))
+    'no margin (the run did not get through)'
+    >>> margin_words(0.001, "m", "the pavement"), margin_words(-1.0, "ft")
+    ('0.00 m inside the pavement', '3.28 ft beyond its lanes')
+    """
+    if not math.isfinite(m):
+        return "no margin (the run did not get through)"
+    value = abs(m) / length_scale(units)
+    return f"{value:.2f} {units} {'beyond' if m < 0 else 'inside'} {what}"
+
+
+def run_words(r, units: str = "m") -> str:
+    """One run for a caption: vehicle, verdict, lane margin and paved margin in words."""
+    paved = getattr(r, "paved_margin_m", math.nan)
+    text = f"{r.vehicle}: {r.verdict}, {margin_words(r.margin_m, units)}"
+    if math.isfinite(paved):
+        text += f", {margin_words(paved, units, 'the pavement')}"
+    return text
+
+
 CSS = """
-body{font-family:system-ui,sans-serif;max-width:1100px;margin:2em auto;padding:0 1em;
-color:#222}
+body{font-family:system-ui,sans-serif;max-width:1200px;margin:1.5em auto;padding:0 1em;
+color:#222;line-height:1.4}
+nav.toc{border:1px solid #ddd;padding:0.5em 1em;background:#fafafa}
+nav.toc ol{margin:0.2em 0}
 table{border-collapse:collapse;font-size:12px;margin:0.5em 0}
 th,td{border:1px solid #ccc;padding:2px 5px;text-align:right}
-th{background:#f2f2f2;position:sticky;top:0}
-td.id{text-align:left;font-family:monospace}
-.matrix{overflow-x:auto;max-height:600px}
+th{background:#f2f2f2}
+td.id,th.id{text-align:left;font-family:monospace;white-space:nowrap}
+.matrix{overflow-x:auto;max-width:100%}
+.matrix table{margin:0}
+.matrix thead th{position:sticky;top:0;z-index:2}
+.matrix th.id,.matrix td.id{position:sticky;left:0;background:#fff;z-index:1}
+.matrix thead th.id{z-index:3;background:#f2f2f2}
+.matrix th.v{min-width:4.5em;max-width:7em;white-space:normal;overflow-wrap:break-word;
+font-size:11px;text-align:center;vertical-align:bottom}
+.matrix td a{color:inherit;text-decoration:none;display:block}
+.matrix td a:hover{text-decoration:underline}
 img{max-width:100%;height:auto}
 figure{margin:1em 0}
-figcaption{font-size:12px;color:#555}
+figcaption{font-size:12px;color:#444}
+figcaption ul{margin:0.3em 0;padding-left:1.2em}
+.summary{font-size:14px}
+@media print{
+body{max-width:none;margin:0;font-size:10pt}
+nav.toc{break-after:page}
+h2{break-before:page}
+.matrix{overflow:visible}
+.matrix thead{display:table-header-group}
+.matrix{break-inside:avoid}
+.matrix thead th,.matrix th.id,.matrix td.id{position:static}
+.matrix table{font-size:7pt}
+.matrix td{white-space:nowrap;padding:1px 3px}
+tr,figure{break-inside:avoid}
+a{color:inherit;text-decoration:none}
+}
 """
 
+#: Matrix columns (vehicles) per table: wider matrices are split into several tables, each
+#: with the curve names, so that each fits a screen and a printed page.
+MATRIX_VEHICLES = 12
+#: Figures in report.html: at most this wide (pixels) and quantised to this many colours.
+HTML_IMAGE_WIDTH_PX = 640
+HTML_IMAGE_COLOURS = 24
 
-def _img(png: Path, alt: str) -> str:
-    data = base64.b64encode(png.read_bytes()).decode("ascii")
-    return f'<img alt="{html.escape(alt)}" src="data:image/png;base64,{data}">'
+
+def compact_png(png: Path, width_px: int = HTML_IMAGE_WIDTH_PX,
+                colours: int = HTML_IMAGE_COLOURS) -> bytes:
+    """A figure made small for the HTML: scaled down to ``width_px`` and quantised to a
+    palette of ``colours`` (PNG, with Pillow, which matplotlib requires).
+
+    The full-resolution PNG and the SVG stay in ``figures/``.
+    """
+    from PIL import Image
+
+    with Image.open(png) as im:
+        im = im.convert("RGB")
+        if im.width > width_px:
+            im = im.resize((width_px, round(im.height * width_px / im.width)),
+                           Image.Resampling.LANCZOS)
+        im = im.quantize(colours, method=Image.Quantize.MEDIANCUT, dither=Image.Dither.NONE)
+        buf = io.BytesIO()
+        im.save(buf, "PNG", optimize=True)
+        return buf.getvalue()
 
 
-def html_document(study: Study, sections: list[Section], units: str = "m") -> str:
-    """``report.html``: one self-contained file (figures embedded, no external assets)."""
+def _img(png: Path, alt: str, lazy: bool = True) -> str:
+    data = base64.b64encode(compact_png(png)).decode("ascii")
+    loading = ' loading="lazy"' if lazy else ""
+    return f'<img alt="{html.escape(alt)}"{loading} src="data:image/png;base64,{data}">'
+
+
+def anchor(network: str, curve_id: str | None = None) -> str:
+    """The HTML id of a network's section or of one of its curves: letters, digits, ``-``
+    and ``_`` with a short hash of the names (unique where the names are).
+
+    >>> anchor("intersection")
+    'net-intersection-4b6914c6'
+    >>> anchor("intersection", "turn:X:XN_in_0->XW_out_0")[:31]
+    'curve-intersection-turn-X-XN_in'
+    """
+    key = network if curve_id is None else f"{network}\0{curve_id}"
+    digest = hashlib.sha1(key.encode()).hexdigest()[:8]
+    text = network if curve_id is None else f"{network}-{curve_id}"
+    safe = re.sub(r"[^A-Za-z0-9_]+", "-", text).strip("-")[:60]
+    return f"{'net' if curve_id is None else 'curve'}-{safe}-{digest}"
+
+
+def _summary_html(s: Section, units: str) -> str:
+    e = html.escape
+    not_clear = sum(v for k, v in s.counts.items() if k not in ("clear", "waived"))
+    worst = s.worst.iloc[0] if len(s.worst) else None
+    text = (f"{counted(s.n_curves, 'curve')} × {counted(s.n_vehicles, 'vehicle')}: "
+            f"{counted(not_clear, 'run')} not clear")
+    if worst is not None and (worst.verdict != "clear" or worst.margin_m < TIGHT_M):
+        text += (f"; the worst: {e(str(worst.vehicle))} on <code>{e(str(worst.curve_id))}"
+                 f"</code>, {e(str(worst.verdict))}, {margin_words(worst.margin_m, units)}")
+    return f'<p class="summary">{text}.</p>'
+
+
+def _matrix_html(s: Section, links: dict[str, str]) -> list[str]:
+    e = html.escape
+    out = []
+    vehicles = list(s.matrix.columns)
+    tables = -(-len(vehicles) // MATRIX_VEHICLES)
+    size = -(-len(vehicles) // max(tables, 1))  # balanced: 37 vehicles in 10, 10, 10, 7
+    for lo in range(0, len(vehicles), size):
+        chunk = vehicles[lo:lo + size]
+        if len(vehicles) > MATRIX_VEHICLES:
+            out.append(f"<p>Vehicles {lo + 1}–{lo + len(chunk)} of {len(vehicles)}:</p>")
+        out.append('<div class="matrix"><table><thead><tr><th class="id">curve</th>'
+                   + "".join(f'<th class="v">{e(v)}</th>' for v in chunk) + "</tr></thead><tbody>")
+        for cid, row in s.matrix[chunk].iterrows():
+            href = links[str(cid)]
+            cells = []
+            for vehicle, c in zip(chunk, row, strict=True):
+                if not isinstance(c, str):
+                    cells.append("<td>–</td>")
+                    continue
+                verdict, margin, *w = c.split("|")
+                tip = f"{vehicle}: {verdict}" + (", waived" if w else "")
+                cells.append(f'<td style="background:{COLOURS[verdict]}33">'
+                             f'<a href="#{href}" title="{e(tip)}">{SYMBOL[verdict]} '
+                             f"{_cell_margin(margin)}{' (waived)' if w else ''}</a></td>")
+            out.append(f'<tr><td class="id"><a href="#{href}">{e(str(cid))}</a></td>'
+                       f'{"".join(cells)}</tr>')
+        out.append("</tbody></table></div>")
+    return out
+
+
+def html_document(study: Study, sections: list[Section], units: str = "m",
+                  exports: dict[str, dict[str, str]] | None = None) -> str:
+    """``report.html``: one self-contained file (figures embedded, compact, no external
+    assets): a contents list, then per network a summary, the plan, the vehicle × curve
+    matrix (every cell linked to its curve's section) and a section per failing or tight
+    curve listing every vehicle's verdict and margins in words."""
     e = html.escape
     out = ["<!DOCTYPE html>", '<html lang="en"><head><meta charset="utf-8">',
+           '<meta name="viewport" content="width=device-width, initial-scale=1">',
            f"<title>Clearance report ({e(study.method)})</title>",
            f"<style>{CSS}</style></head><body>",
-           f"<h1>Clearance report ({e(study.method)})</h1>",
-           f"<p>{len(study.records)} runs: {len(study.table)} vehicles × the curves of "
-           f"{len(sections)} network(s); clearance offset {study.clearance_m:g} m. Verdicts, "
-           "worst first: <b>cannot-turn</b> (the steered axle cannot follow the centre line "
-           "within the lock and steering rate), <b>fails</b> (the swept path leaves the "
-           "pavement), <b>encroaches</b> (it leaves its own lanes), <b>clear</b>. Margins in "
-           f"{'metres' if units == 'm' else 'feet'}: the gap to the own lanes (negative: how "
-           "far beyond).</p>"]
+           f'<h1 id="top">Clearance report ({e(study.method)})</h1>',
+           f"<p>{counted(len(study.records), 'run')}: {counted(len(study.table), 'vehicle')}"
+           f" × the curves of {counted(len(sections), 'network')}; clearance offset "
+           f"{study.clearance_m:g} m. Verdicts, worst first: <b>cannot-turn</b> (the steered "
+           "axle cannot follow the centre line within the lock and steering rate), "
+           "<b>fails</b> (the swept path leaves the pavement), <b>encroaches</b> (it leaves "
+           "its own lanes), <b>clear</b>. Margins in "
+           f"{'metres' if units == 'm' else 'feet'}: the gap between the swept path and the "
+           "edge of its own lanes (negative: how far beyond) and, for the pavement, the gap "
+           "to the pavement's edge.</p>"]
+    toc = ['<nav class="toc" aria-label="Contents"><b>Contents</b><ol>']
     for s in sections:
-        out.append(f"<h2>{e(s.name)}</h2><table><tr>"
-                   + "".join(f"<th>{e(k)}</th>" for k in s.counts) + "</tr><tr>"
-                   + "".join(f"<td>{v}</td>" for v in s.counts.values()) + "</tr></table>")
-        out.append(f"<figure>{_img(s.plan, 'plan of ' + s.name)}<figcaption>Plan of "
-                   f"{e(s.name)}: each curve coloured by its worst verdict; the worst curves "
-                   "numbered as in the list below.</figcaption></figure><ol>")
+        net = anchor(s.name)
+        toc.append(f'<li><a href="#{net}">{e(s.name)}</a> — '
+                   f'<a href="#{net}-matrix">matrix</a>'
+                   + (f', <a href="#{net}-curves">{counted(len(s.curves), "curve")}</a>'
+                      if s.curves else "") + "</li>")
+    toc.append('<li><a href="#files">Files</a></li></ol></nav>')
+    out += toc
+    for s in sections:
+        net = anchor(s.name)
+        links = {c.curve_id: anchor(s.name, c.curve_id) for c in s.curves}
+        out.append(f'<h2 id="{net}">{e(s.name)}</h2>')
+        out.append(_summary_html(s, units))
+        out.append("<table><tr>" + "".join(f"<th>{e(k)}</th>" for k in s.counts)
+                   + "</tr><tr>" + "".join(f"<td>{v}</td>" for v in s.counts.values())
+                   + "</tr></table>")
+        out.append(f"<figure>{_img(s.plan, 'plan of ' + s.name, lazy=False)}<figcaption>Plan "
+                   f"of {e(s.name)}: each curve coloured by its worst verdict; the worst "
+                   "curves numbered as in the list below.</figcaption></figure>")
+        items = []
         for r in s.worst.head(8).itertuples():
             if r.verdict == "clear" and r.margin_m > TIGHT_M:
                 break
-            out.append(f"<li><code>{e(r.curve_id)}</code>: {e(r.vehicle)} {e(r.verdict)} "
-                       f"({_fmt_margin(r.margin_m, units)})</li>")
-        out.append("</ol>")
-        out.append(f"<h3>Vehicle × curve matrix</h3><p>{len(s.matrix)} failing or tight "
-                   f"curves; {s.all_clear} curves clear for every vehicle with at least "
-                   f"{TIGHT_M} m to spare are left out.</p>")
+            target = links.get(str(r.curve_id))
+            name = f"<code>{e(str(r.curve_id))}</code>"
+            if target:
+                name = f'<a href="#{target}">{name}</a>'
+            items.append(f"<li>{name}: "
+                         f"{e(str(r.vehicle))} {e(str(r.verdict))}, "
+                         f"{margin_words(r.margin_m, units)}</li>")
+        if items:
+            out.append("<p>Worst curves (numbered on the plan):</p><ol>" + "".join(items)
+                       + "</ol>")
+        else:
+            out.append(f"<p>Every curve is clear for every vehicle with at least {TIGHT_M} m "
+                       "to spare.</p>")
+        out.append(f'<h3 id="{net}-matrix">Vehicle × curve matrix</h3><p>'
+                   f"{counted(len(s.matrix), 'failing or tight curve')}; "
+                   f"{counted(s.all_clear, 'curve')} clear for every vehicle with at least "
+                   f"{TIGHT_M} m to spare left out. Each cell: the verdict (✓ clear, ~ "
+                   "encroaches, ✗ fails, ⊘ cannot-turn) and the margin to the own lanes; "
+                   "click it for the curve.</p>")
         if len(s.matrix):
-            out.append('<div class="matrix"><table><tr><th>curve</th>'
-                       + "".join(f"<th>{e(v)}</th>" for v in s.matrix.columns) + "</tr>")
-            for cid, row in s.matrix.iterrows():
-                cells = []
-                for c in row:
-                    if not isinstance(c, str):
-                        cells.append("<td>–</td>")
-                        continue
-                    verdict, margin, *w = c.split("|")
-                    colour = COLOURS[verdict]
-                    tip = f"{verdict}, waived" if w else verdict
-                    cells.append(f'<td style="background:{colour}33" title="{e(tip)}">'
-                                 f"{SYMBOL[verdict]} {_cell_margin(margin)}"
-                                 f"{' (waived)' if w else ''}</td>")
-                out.append(f'<tr><td class="id">{e(str(cid))}</td>{"".join(cells)}</tr>')
-            out.append("</table></div>")
+            out += _matrix_html(s, links)
         if s.waived:
             out.append(f"<h3>Waived runs ({len(s.waived)})</h3><table><tr><th>curve</th>"
                        "<th>vehicle</th><th>verdict</th><th>margin</th><th>reason</th>"
                        "<th>waiver</th></tr>")
             out += [f'<tr><td class="id">{e(cid)}</td><td>{e(v)}</td><td>{e(verdict)}</td>'
-                    f"<td>{_fmt_margin(m, units)}</td><td>{e(reason)}</td><td>{e(where)}</td>"
-                    "</tr>" for cid, v, verdict, m, reason, where in s.waived]
+                    f"<td>{margin_words(m, units)}</td><td>{e(reason)}</td>"
+                    f"<td>{e(where)}</td></tr>"
+                    for cid, v, verdict, m, reason, where in s.waived]
             out.append("</table>")
-        for cid, png, caption in s.curve_figures:
-            out.append(f"<h3><code>{e(cid)}</code></h3><figure>{_img(png, cid)}"
-                       f"<figcaption>{e(caption)}</figcaption></figure>")
-        if s.omitted:
-            out.append(f"<p>{s.omitted} more failing or tight curves are in the matrix and in "
-                       "clearance.csv, without a figure.</p>")
-    out.append("</body></html>")
+        if s.curves:
+            out.append(f'<h3 id="{net}-curves">Failing and tight curves</h3>')
+        for c in s.curves:
+            runs = "".join(f"<li>{e(run_words(r, units))}"
+                           + (" (drawn)" if r.vehicle in c.drawn else "") + "</li>"
+                           for r in c.runs)
+            head = f'<h4 id="{links[c.curve_id]}"><code>{e(c.curve_id)}</code></h4>'
+            if c.figure is not None:
+                out.append(f"{head}<figure>{_img(c.figure, c.curve_id)}<figcaption>"
+                           f"<code>{e(c.curve_id)}</code>, every vehicle worst first (the "
+                           f"figure draws {counted(len(c.drawn), 'envelope')}):"
+                           f"<ul>{runs}</ul></figcaption></figure>")
+            else:
+                out.append(f"{head}<p>No figure (beyond the first {MAX_CURVE_FIGURES} of "
+                           f"the network); every vehicle worst first:</p><ul>{runs}</ul>")
+        out.append('<p><a href="#top">Back to the contents</a></p>')
+    out.append('<h2 id="files">Files</h2><ul>'
+               "<li><code>clearance.csv</code>: one row per network × vehicle × curve</li>"
+               "<li><code>summary.json</code>: counts by verdict per network and vehicle, "
+               "inputs with SHA-256, versions</li>"
+               "<li><code>figures/</code>: every figure as PNG and SVG at full resolution "
+               "(this page embeds smaller copies)</li>")
+    for name, files in (exports or {}).items():
+        out.append(f"<li>{e(name)}: <code>exports/{e(files['sumo'])}</code> (<code>sumo-gui "
+                   f"-n NET -a exports/{e(files['sumo'])}</code>), "
+                   f"<code>exports/{e(files['dxf'])}</code> (CAD), "
+                   f"<code>exports/{e(files['geojson'])}</code> (GIS)</li>")
+    out.append("</ul></body></html>")
     return "\n".join(out) + "\n"

@@ -2,10 +2,14 @@
 
 Coordinates are WGS84 longitude/latitude when every network of the records has a projection
 (``projParameter`` other than ``"!"``): SUMO x, y minus the ``netOffset``, then the inverse
-of the network's projection with PROJ (pyproj), as sumolib's ``convertXY2LonLat`` does.
-Otherwise they are the SUMO plane metres of each network, and the file says so in its
-top-level ``coordinate_system`` member. (RFC 7946 section 7.1 forbids a member called
-``coordinates`` on a FeatureCollection, hence the name.)
+of the network's projection with PROJ (pyproj), as sumolib's ``convertXY2LonLat`` does. A
+network without a projection is placed on the globe by an ``origin`` (latitude, longitude of
+its input coordinates' 0,0, i.e. SUMO x, y minus the ``netOffset``): a transverse Mercator
+projection centred there (scale 1, so metres stay metres near the site). Otherwise they
+are the SUMO plane metres of each network: not RFC 7946 coordinates, which the file says
+in its top-level ``coordinate_system`` member (a foreign member, RFC 7946 section 6.1; no
+``crs`` member, which RFC 7946 removed) and the report in its file name
+(``*.local-metres.geojson``).
 """
 
 from __future__ import annotations
@@ -26,7 +30,8 @@ from reports.atomic import write_text_atomic
 from reports.exports import EnvelopeRecord, checked_records, polygon_parts
 from vehicles.errors import InputError
 
-__all__ = ["COORDS_LOCAL", "COORDS_LONLAT", "COORDS_MIXED", "write_geojson", "lonlat_transformer"]
+__all__ = ["COORDS_LOCAL", "COORDS_LONLAT", "COORDS_MIXED", "lonlat_transformer",
+           "origin_transformer", "parse_origin", "write_geojson"]
 
 COORDS_LONLAT = "WGS84 longitude/latitude (degrees, RFC 7946)"
 COORDS_LOCAL = "local metres (SUMO network coordinates, no projection)"
@@ -64,6 +69,48 @@ def lonlat_transformer(network: str, location: Location) -> pyproj.Transformer |
         raise InputError(
             f"network {network}: cannot use its projParameter {proj!r}: {exc}"
         ) from None
+
+
+def parse_origin(text: str) -> tuple[float, float]:
+    """``LAT,LON`` in degrees (``--origin``), checked.
+
+    Examples
+    --------
+    >>> parse_origin("52.52, 13.405")
+    (52.52, 13.405)
+    >>> parse_origin("95,13.4")  # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    ...
+    vehicles.errors.InputError: --origin '95,13.4': the longitude must be within ±180° ...
+    """
+    parts = text.split(",")
+    try:
+        lat, lon = (float(p) for p in parts)
+    except ValueError:
+        raise InputError(f"--origin {text!r}: expected LAT,LON in degrees "
+                         "(e.g. --origin 52.52,13.405)") from None
+    if not (abs(lat) <= 90 and abs(lon) <= 180):
+        raise InputError(f"--origin {text!r}: the longitude must be within ±180° and the "
+                         "latitude within ±90° (write LAT,LON)")
+    return lat, lon
+
+
+def origin_transformer(origin: tuple[float, float]) -> pyproj.Transformer:
+    """From local metres (x east, y north, 0,0 at ``origin`` = (lat, lon)) to WGS84 lon/lat.
+
+    Examples
+    --------
+    >>> t = origin_transformer((45.0, 7.0))
+    >>> [round(v, 9) for v in t.transform(0.0, 0.0)]
+    [7.0, 45.0]
+    >>> lon, lat = t.transform(0.0, 1000.0)  # 1 km north: about 0.009 degrees of latitude
+    >>> round(lat - 45.0, 4)
+    0.009
+    """
+    lat, lon = origin
+    crs = pyproj.CRS.from_proj4(f"+proj=tmerc +lat_0={lat!r} +lon_0={lon!r} +k=1 +x_0=0 "
+                                "+y_0=0 +datum=WGS84 +units=m +no_defs")
+    return pyproj.Transformer.from_crs(crs, "EPSG:4326", always_xy=True)
 
 
 def _ring(
@@ -120,6 +167,7 @@ def write_geojson(
     path: str | os.PathLike[str],
     records: Iterable[EnvelopeRecord],
     locations: Mapping[str, Location],
+    origin: tuple[float, float] | None = None,
 ) -> Path:
     """Write the envelopes as a GeoJSON FeatureCollection, one Feature per record.
 
@@ -132,6 +180,9 @@ def write_geojson(
     locations
         Each network's ``<location>`` (``read_network(path).location``), by network name;
         every network of the records must be there.
+    origin
+        (latitude, longitude) of the input coordinates' 0,0 of every network without a
+        projection (:func:`origin_transformer`); None: such networks stay in local metres.
 
     Returns
     -------
@@ -159,6 +210,8 @@ def write_geojson(
     if missing:
         raise InputError(f"GeoJSON export: no location given for network(s) {', '.join(missing)}")
     transformers = {n: lonlat_transformer(n, locations[n]) for n in names}
+    if origin is not None:
+        transformers = {n: t or origin_transformer(origin) for n, t in transformers.items()}
     n_projected = sum(t is not None for t in transformers.values())
     if n_projected == len(names):
         system = COORDS_LONLAT
@@ -194,6 +247,10 @@ def write_geojson(
         }
         for n in names
     }
+    if origin is not None and system == COORDS_LONLAT:
+        for n in names:
+            if lonlat_transformer(n, locations[n]) is None:
+                networks[n]["origin_lat_lon"] = [float(origin[0]), float(origin[1])]
 
     def dump(obj: Any) -> str:
         return json.dumps(

@@ -1,4 +1,5 @@
-"""SUMO additional file of swept envelopes: ``sumo-gui -n NET -a swept.add.xml``.
+"""SUMO additional file of one network's swept envelopes: ``sumo-gui -n NET -a NET.add.xml``
+(a report writes one per network under ``exports/``).
 
 One ``<poly>`` per envelope part, filled, coloured by verdict (semi-transparent), with the
 record's attributes as ``<param>`` children so that sumo-gui's parameter dialog of a shape
@@ -80,8 +81,8 @@ def write_sumo_additional(path: str | os.PathLike[str], records: Iterable[Envelo
     path
         The output file (conventionally ``*.add.xml``); written atomically.
     records
-        The envelopes, in SUMO network coordinates (all networks' records go into one file;
-        load it with the matching network).
+        The envelopes, in SUMO network coordinates: one network's (a report writes a file
+        per network); load it with that network.
 
     Returns
     -------

@@ -2,16 +2,20 @@
 
 Each writer takes plain :class:`EnvelopeRecord` objects (one per vehicle and curve), checks
 them, and writes one file atomically. All three sort the records by network, vehicle and
-curve id, so identical inputs give identical files.
+curve id, so identical inputs give identical files. A report writes one file of each per
+network (:func:`by_network`), each in that network's own coordinates.
 
 - :func:`write_geojson` (``reports.export_geojson``): a GeoJSON FeatureCollection in WGS84
-  longitude/latitude when every network has a projection, in local metres otherwise;
+  longitude/latitude when the network has a projection (or an origin is given), in local
+  metres otherwise;
 - :func:`write_sumo_additional` (``reports.export_sumo``): SUMO ``<poly>`` shapes for
-  ``sumo-gui -n NET -a swept.add.xml``;
-- :func:`write_dxf` (``reports.export_dxf``): a DXF drawing in metres, one layer per
-  vehicle.
+  ``sumo-gui -n NET -a FILE``;
+- :func:`write_dxf` (``reports.export_dxf``): a DXF drawing in metres: the network's base
+  plan and, per vehicle, layers for the envelopes, the conflict and (when known) body
+  outlines and wheel paths.
 
-This module holds the record and the checks the writers share.
+This module holds the record and the checks the writers share; it imports none of them
+(each writer imports it), so import a writer from its own module.
 """
 
 from __future__ import annotations
@@ -19,7 +23,7 @@ from __future__ import annotations
 import math
 from collections.abc import Iterable
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 import numpy as np
 import shapely
@@ -29,19 +33,13 @@ from shapely.geometry.polygon import orient
 from analysis.clearance import VERDICTS
 from vehicles.errors import InputError
 
-if TYPE_CHECKING:  # pragma: no cover - only for type checkers
-    from reports.export_dxf import write_dxf
-    from reports.export_geojson import write_geojson
-    from reports.export_sumo import write_sumo_additional
-
 __all__ = [
     "EnvelopeRecord",
     "VERDICT_RGBA",
+    "by_network",
     "checked_records",
+    "conflict_parts",
     "polygon_parts",
-    "write_dxf",
-    "write_geojson",
-    "write_sumo_additional",
 ]
 
 #: Colour of each verdict as (red, green, blue, alpha), 0-255; alpha makes fills see-through.
@@ -72,8 +70,21 @@ class EnvelopeRecord:
     margin_m
         Signed margin that decides the verdict (m); NaN when there is none.
     envelope
-        The swept envelope, a shapely Polygon or MultiPolygon in SUMO plane coordinates
-        (metres, after the network's ``netOffset``).
+        The swept envelope as measured (grown by the clearance offset ``offset_m``), a
+        shapely Polygon or MultiPolygon in SUMO plane coordinates (metres, after the
+        network's ``netOffset``).
+    offset_m
+        The clearance offset the envelope was grown by (m; 0: it is the body envelope).
+    body_envelope
+        The envelope of the body alone (not grown), when known; with ``offset_m`` 0 it is
+        ``envelope``.
+    outside_lanes, outside_pavement
+        The conflict: the parts of ``envelope`` outside the own lanes (but paved) and
+        outside the pavement, or None (not computed) / empty (none).
+    body_outlines
+        Outlines of the vehicle body (Polygons) at intervals along the path, when known.
+    wheel_paths
+        Paths of the wheels that bound the sweep (LineStrings), when known.
     """
 
     network: str
@@ -83,6 +94,12 @@ class EnvelopeRecord:
     verdict: str
     margin_m: float
     envelope: Any
+    offset_m: float = 0.0
+    body_envelope: Any = None
+    outside_lanes: Any = None
+    outside_pavement: Any = None
+    body_outlines: tuple[Any, ...] = ()
+    wheel_paths: tuple[Any, ...] = ()
 
     @property
     def label(self) -> str:
@@ -129,6 +146,22 @@ def _check(record: EnvelopeRecord) -> None:
     if not env.is_valid:
         reason = shapely.is_valid_reason(env)
         raise InputError(f"record {record.label}: the envelope is not a valid polygon ({reason})")
+    try:
+        offset = float(record.offset_m)
+    except (TypeError, ValueError):
+        offset = math.nan
+    if not (math.isfinite(offset) and offset >= 0):
+        raise InputError(f"record {record.label}: offset_m {record.offset_m!r} must be >= 0")
+    extras = [record.body_envelope, record.outside_lanes, record.outside_pavement,
+              *record.body_outlines, *record.wheel_paths]
+    for g in extras:
+        if g is None:
+            continue
+        if not isinstance(g, shapely.Geometry):
+            raise InputError(f"record {record.label}: expected a shapely geometry, "
+                             f"got {type(g).__name__}")
+        if not g.is_empty and not np.isfinite(shapely.get_coordinates(g)).all():
+            raise InputError(f"record {record.label}: a geometry has non-finite coordinates")
 
 
 def _sort_key(r: EnvelopeRecord) -> tuple[Any, ...]:
@@ -171,18 +204,33 @@ def polygon_parts(envelope: Polygon | MultiPolygon) -> list[Polygon]:
     return sorted(parts, key=lambda p: (p.bounds[0], p.bounds[1], -p.area, p.wkb_hex))
 
 
-def __getattr__(name: str) -> Any:
-    """The writers, imported on first use (they import this module)."""
-    if name == "write_geojson":
-        from reports.export_geojson import write_geojson
+def conflict_parts(envelope: Any, own_lanes: Any, paved: Any) -> tuple[Any, Any]:
+    """The conflict of an envelope: the part outside the own lanes but paved, and the part
+    outside the pavement (either may be empty; None when its area is unknown).
 
-        return write_geojson
-    if name == "write_sumo_additional":
-        from reports.export_sumo import write_sumo_additional
+    Examples
+    --------
+    >>> from shapely.geometry import box
+    >>> lanes, paved = box(0, 0, 10, 3), box(0, -3, 10, 3)
+    >>> a, b = conflict_parts(box(2, -4, 4, 1), lanes, paved)
+    >>> round(a.area, 6), round(b.area, 6)
+    (6.0, 2.0)
+    >>> a, b = conflict_parts(box(2, 1, 4, 2), lanes, paved)  # inside its lanes: none
+    >>> a.is_empty and b.is_empty
+    True
+    """
+    outside_pavement = shapely.difference(envelope, paved) if paved is not None else None
+    outside_lanes = None
+    if own_lanes is not None:
+        outside_lanes = shapely.difference(envelope, own_lanes)
+        if paved is not None:
+            outside_lanes = shapely.intersection(outside_lanes, paved)
+    return outside_lanes, outside_pavement
 
-        return write_sumo_additional
-    if name == "write_dxf":
-        from reports.export_dxf import write_dxf
 
-        return write_dxf
-    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+def by_network(records: Iterable[EnvelopeRecord]) -> dict[str, list[EnvelopeRecord]]:
+    """The records grouped by network name, networks in sorted order."""
+    out: dict[str, list[EnvelopeRecord]] = {}
+    for r in records:
+        out.setdefault(r.network, []).append(r)
+    return dict(sorted(out.items()))

@@ -1,24 +1,35 @@
 """Figures of a clearance report: network plans with the worst curves, swept paths.
 
-Every figure is a plan in metres (x east, y north) with labelled axes, a scale bar, a north
-arrow and a legend, written as PNG and SVG at print size.
+Every figure is a plan (x east, y north) with axes, a scale bar and numbers in the report's
+units (metres or feet), a north arrow and a legend, written as PNG and SVG at print size.
+The swept paths are drawn by :mod:`reports.drawing`; each vehicle keeps its colour
+(:func:`reports.plotting.vehicle_colours`) in every figure.
 """
 
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from pathlib import Path
 
 import numpy as np
 import pandas as pd
 import shapely
 from matplotlib.lines import Line2D
-from matplotlib.patches import Patch
 
 from networks.curves import Curve
-from networks.plot import _fill, plot_plan
-from reports.plotting import new_figure, save
+from networks.plot import plot_plan
+from reports.drawing import Shown, draw_curve, length_text, rerun, view_bounds
+from reports.plotting import (
+    add_north_arrow,
+    add_scale_bar,
+    new_figure,
+    plan_axes,
+    save,
+    vehicle_colours,
+)
 from reports.study import VERDICT_ORDER, NetworkCurves, RunRecord
+from vehicles.table import VehicleTable
 
 COLOURS = {"clear": "#1e8449", "encroaches": "#e67e22", "fails": "#c0392b",
            "cannot-turn": "#7d3c98", "error": "#000000"}
@@ -74,8 +85,8 @@ def sites(curves: list[Curve], gap_m: float = 80.0, max_sites: int = 4) -> list[
     return [[curves[i] for i in g] for g in ordered]
 
 
-def plot_network(nc: NetworkCurves, frame: pd.DataFrame, stem: Path, marked: int = 8
-                 ) -> list[Path]:
+def plot_network(nc: NetworkCurves, frame: pd.DataFrame, stem: Path, marked: int = 8,
+                 units: str = "m") -> list[Path]:
     """The network's plan, every curve's centre line coloured by its worst verdict.
 
     One panel per site (curves close together); the ``marked`` worst curves are numbered,
@@ -96,7 +107,11 @@ def plot_network(nc: NetworkCurves, frame: pd.DataFrame, stem: Path, marked: int
         cx, cy = (pts.max(axis=0) + pts.min(axis=0)) / 2
         title = (f"{nc.name}: around junction {group[0].junction}" if len(groups) > 1
                  else f"{nc.name}: every curve")
-        plot_plan(nc.network, ax, title, (cx - half, cx + half, cy - half, cy + half))
+        plot_plan(nc.network, ax, title, (cx - half, cx + half, cy - half, cy + half),
+                  decorate=False)
+        plan_axes(ax, units)
+        add_scale_bar(ax, units)
+        add_north_arrow(ax)
         # a curve no vehicle of the table may use (not permitted) has no verdict
         judged = [c for c in group if c.curve_id in verdict]
         for c in sorted(judged, key=lambda c: -VERDICT_ORDER[verdict[c.curve_id]]):
@@ -129,43 +144,47 @@ def _core_points(curve: Curve) -> np.ndarray:
     return pts[keep] if keep.sum() >= 2 else pts
 
 
+def shown_runs(nc: NetworkCurves, curve: Curve, records: Sequence[RunRecord],
+               table: VehicleTable | None) -> list[Shown]:
+    """The records with their vehicles' colours and, for a simulated run whose vehicle the
+    table has, the run driven again for its trajectory (:func:`reports.drawing.rerun`)."""
+    colours = vehicle_colours(table.names if table is not None else
+                              [r.vehicle for r in records])
+    shown = [Shown(r, colours.get(r.vehicle, "#555555")) for r in records]
+    if table is None:
+        return shown
+    by_name = {v.name: v for v in table.vehicles()}
+    # the analytic method drives nothing: its runs are drawn by their envelopes alone
+    todo = [s for s in shown if s.record.verdict != "error" and s.record.vehicle in by_name
+            and s.record.method == "simulate"]
+    offsets = {s.record.clearance_m for s in todo}
+    for off in sorted(offsets):
+        group = [s for s in todo if s.record.clearance_m == off]
+        runs = rerun(nc, curve, [by_name[s.record.vehicle] for s in group], off)
+        for s, d in zip(group, runs, strict=True):
+            s.driven = d
+    return shown
+
+
 def plot_curve(nc: NetworkCurves, curve: Curve, records: list[RunRecord], stem: Path,
-               units_note: str = "") -> list[Path]:
-    """The swept paths of ``records`` (one curve) over the lanes, junction and curbs."""
-    core = _core_points(curve)
-    envs = [r.envelope for r in records if r.envelope is not None and not r.envelope.is_empty]
-    b = np.array([e.bounds for e in envs] + [[*core.min(axis=0), *core.max(axis=0)]])
-    x0, y0 = b[:, 0].min(), b[:, 1].min()
-    x1, y1 = b[:, 2].max(), b[:, 3].max()
-    half = max(x1 - x0, y1 - y0) / 2 + 6.0
-    cx, cy = (x0 + x1) / 2, (y0 + y1) / 2
-    fig, ax = new_figure(6.5, 6.0)
-    plot_plan(nc.network, ax, None, (cx - half, cx + half, cy - half, cy + half))
-    if curve.paved is not None:
-        for poly in getattr(curve.paved, "geoms", [curve.paved]):
-            for ring in [poly.exterior, *poly.interiors]:
-                xy = np.asarray(ring.coords)
-                ax.plot(xy[:, 0], xy[:, 1], color="black", lw=1.6, zorder=4)
-    if curve.own_lanes is not None:
-        for poly in getattr(curve.own_lanes, "geoms", [curve.own_lanes]):
-            xy = np.asarray(poly.exterior.coords)
-            ax.plot(xy[:, 0], xy[:, 1], color="#2471a3", lw=1.0, ls="--", zorder=5)
-    handles = [Line2D([], [], color="black", lw=1.6, label="edge of pavement (curb)"),
-               Line2D([], [], color="#2471a3", lw=1.0, ls="--", label="own lanes")]
-    palette = ["#c0392b", "#7d3c98", "#e67e22", "#1e8449", "#2e86c1", "#7f8c8d"]
-    for r, colour in zip(records, palette, strict=False):
-        if r.envelope is None:
-            continue
-        _fill(ax, r.envelope, facecolor=colour, alpha=0.25, edgecolor=colour, lw=1.0, zorder=6)
-        handles.append(Patch(facecolor=colour, alpha=0.5, edgecolor=colour,
-                             label=f"{r.vehicle}: {r.verdict} ({r.margin_m:+.2f} m)"))
-    ax.plot(curve.centerline[:, 0], curve.centerline[:, 1], color="black", lw=0.6, ls=":",
-            zorder=7)
-    handles.append(Line2D([], [], color="black", lw=0.6, ls=":", label="centre line followed"))
+               units_note: str = "", table: VehicleTable | None = None, units: str = "m"
+               ) -> list[Path]:
+    """The swept paths of ``records`` (one curve) over the plan (:mod:`reports.drawing`).
+
+    With the study's vehicle ``table`` each run is driven again (model only) for its
+    trajectory: the vehicle at intervals, wheel paths, dimensions, where it stops; the
+    vehicles keep the table's colours. Without it only the envelopes are drawn. Every
+    length is in ``units``.
+    """
+    shown = shown_runs(nc, curve, records, table)
+    fig, ax = new_figure(7.0, 7.6)
+    bounds = view_bounds(curve, shown)
+    handles = draw_curve(ax, nc, curve, shown, units, bounds)
     angle = f"{curve.turn_angle_deg:+.0f}°"
-    radius = f"R min {curve.min_radius_m:.1f} m" if math.isfinite(curve.min_radius_m) else ""
-    ax.set_title(f"{nc.name}: {curve.curve_id}\n{curve.kind}, {angle}, {radius}{units_note}",
-                 fontsize=9)
-    ax.legend(handles=handles, loc="upper center", bbox_to_anchor=(0.5, -0.1), ncol=2,
-              fontsize=7, frameon=False)
+    radius = (f", R min {length_text(curve.min_radius_m, units, 1)}"
+              if math.isfinite(curve.min_radius_m) else "")
+    ax.set_title(f"{nc.name}: {curve.curve_id}\n{curve.kind} at junction {curve.junction}, "
+                 f"{angle}{radius}{units_note}", fontsize=9)
+    ax.legend(handles=handles, loc="upper center", bbox_to_anchor=(0.5, -0.07), ncol=3,
+              fontsize=6.5, frameon=False, handlelength=3.2)
     return save(fig, stem)

@@ -74,3 +74,19 @@ def add_waivers_option(p: argparse.ArgumentParser) -> None:
     p.add_argument("--waivers", metavar="WAIVERS.csv",
                    help="CSV of accepted verdicts: curve_id (or glob), vehicle (or *), "
                         "verdict, reason; waived runs are shown as such and pass check")
+
+
+def add_net_option(p: argparse.ArgumentParser, repeatable: bool = False,
+                   required: bool = False, help: str = ".net.xml or .net.xml.gz",
+                   **kwargs) -> None:
+    """``-n/--net/--net-file NET`` (SUMO's name beside ours); repeatable for a study."""
+    p.add_argument("-n", "--net", "--net-file", dest="net", metavar="NET", required=required,
+                   action="append" if repeatable else "store", help=help, **kwargs)
+
+
+def add_output_option(p: argparse.ArgumentParser, folder: bool, metavar: str, help: str,
+                      **kwargs) -> None:
+    """``-o/--output/--output-file`` (SUMO's name beside ours), and ``--output-dir`` when
+    the output is a folder."""
+    names = ["-o", "--output", "--output-file"] + (["--output-dir"] if folder else [])
+    p.add_argument(*names, dest="output", metavar=metavar, help=help, **kwargs)

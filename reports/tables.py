@@ -110,6 +110,8 @@ def summary(study: Study, vehicle_tables: list[Path],
         ],
         "inputs": {
             "networks": [{"name": n.name, "path": str(n.path), "sha256": sha256_of(n.path),
+                          "junctions": sum(not j.startswith(":")
+                                           for j in n.network.junctions),
                           "curves": len(n.curves)} for n in study.networks],
             "vehicle_tables": [{"path": str(p), "sha256": sha256_of(p)}
                                for p in vehicle_tables],

@@ -26,3 +26,14 @@ def format_table(rows: Sequence[Mapping[str, str]], columns: Sequence[str],
         return "  ".join(parts).rstrip()
 
     return [line(heads)] + [line([r[c] for c in columns]) for r in rows]
+
+
+def counted(n: int, noun: str, plural: str | None = None) -> str:
+    """``n`` and the noun, singular for one.
+
+    >>> counted(1, "vehicle"), counted(2, "vehicle"), counted(0, "run")
+    ('1 vehicle', '2 vehicles', '0 runs')
+    >>> counted(2, "batch", "batches")
+    '2 batches'
+    """
+    return f"{n} {noun if n == 1 else (plural or noun + 's')}"

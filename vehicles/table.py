@@ -122,14 +122,27 @@ def bundled_table(stem: str) -> Path:
 
 
 def unknown_name_message(name: str, known: Sequence[str]) -> str:
-    close = difflib.get_close_matches(name, known, n=3, cutoff=0.5)
+    """The message for an unknown vehicle name, with close matches (case-insensitive).
+
+    >>> unknown_name_message("p", ["P", "SU-30", "WB-62"])[:38]
+    "unknown vehicle 'p'; did you mean 'P'?"
+    """
+    folded = {}
+    for k in known:
+        folded.setdefault(k.casefold(), k)
+    same = [k for k in known if k.casefold() == name.casefold()]
+    close = same + [folded[c] for c in difflib.get_close_matches(name.casefold(), list(folded),
+                                                                 n=3, cutoff=0.5)
+                    if folded[c] not in same]
+    close = close[:3]
     hint = f"; did you mean {', '.join(repr(c) for c in close)}?" if close else ""
     return (f"unknown vehicle {name!r}{hint} (known: {len(known)} vehicles, "
             "see `clearance vehicles`)")
 
 
 def load_tables(
-    paths: Iterable[str | Path] | None = None, names: Sequence[str] | None = None
+    paths: Iterable[str | Path] | None = None, names: Sequence[str] | None = None,
+    warn: bool = True,
 ) -> VehicleTable:
     """Read, validate and convert vehicle tables.
 
@@ -138,7 +151,11 @@ def load_tables(
     paths
         CSV files; ``None`` or empty means every bundled table.
     names
-        Keep only these models (in this order); ``None`` keeps every row.
+        Keep only these models (in this order); ``None`` keeps every row. Warnings are
+        logged (and kept) for the rows kept only.
+    warn
+        Log the warnings (False: only keep them in the table, e.g. when the tables are read
+        for their names).
 
     Raises
     ------
@@ -177,7 +194,9 @@ def load_tables(
         if missing:
             raise InputError("; ".join(unknown_name_message(n, list(seen)) for n in missing))
         frame = frame.set_index("name", drop=False).loc[list(names)].reset_index(drop=True)
-    for w in warnings:
+        kept = [f"{t}:{n}" for t, n in zip(frame["table"], frame["line"], strict=True)]
+        warnings = [w for w in warnings if any(w.startswith((f"{k} ", f"{k}:")) for k in kept)]
+    for w in warnings if warn else ():
         log.warning(w)
     return VehicleTable(frame, warnings)
 

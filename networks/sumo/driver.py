@@ -501,7 +501,9 @@ class _SumoSession:
         return _Plan(i, rid, units, len(at), at)
 
     def _add_vehicle(self, vid: str, route: str, vtype: str) -> None:
-        """Add a vehicle on its route; where SUMO refuses that route, on its first edge.
+        """Add a vehicle on its route; where SUMO refuses that route, on its first edge; where
+        the class may not depart on the route's first edge (a lead-in over a bus lane), on
+        the first edge that admits it.
 
         The vType has the vehicle's own SUMO class, and only curves whose lanes admit it are
         driven, so SUMO's permissions hold. There is no fallback to vClass ``ignoring``:
@@ -515,13 +517,31 @@ class _SumoSession:
             t.vehicle.add(vid, route, typeID=vtype, departPos="0")
             return
         except t.TraCIException as exc:
-            if "no valid route" not in str(exc):
+            refused = exc
+            if "no valid route" in str(exc):
+                first = f"{route}.first"
+                if first not in self.free_routes:
+                    t.route.add(first, list(t.route.getEdges(route))[:1])
+                    self.free_routes.add(first)
+                t.vehicle.add(vid, first, typeID=vtype, departPos="0")
+                return
+            if "not allowed to depart" not in str(exc):
                 raise
-        first = f"{route}.first"
-        if first not in self.free_routes:
-            t.route.add(first, list(t.route.getEdges(route))[:1])
-            self.free_routes.add(first)
-        t.vehicle.add(vid, first, typeID=vtype, departPos="0")
+        # a lead-in over a lane the class may not use (a bus lane before a car's turn):
+        # depart on the first edge of the route that admits it; the model places it
+        edges = list(t.route.getEdges(route))
+        for k in range(1, len(edges)):
+            tail = f"{route}.from{k}"
+            if tail not in self.free_routes:
+                t.route.add(tail, edges[k:])
+                self.free_routes.add(tail)
+            try:
+                t.vehicle.add(vid, tail, typeID=vtype, departPos="0")
+                return
+            except t.TraCIException as exc:
+                if "not allowed to depart" not in str(exc):
+                    raise
+        raise refused
 
     def _place_all(self, active: dict[int, _Plan]) -> None:
         """Place every vehicle in flight at its current sample; drop the runs SUMO refuses."""

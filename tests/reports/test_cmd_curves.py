@@ -123,3 +123,15 @@ def test_output_csv_gets_the_permissions_of_the_umask(tee_net, tmp_path):
         os.umask(mask)
     assert os.stat(tmp_path / "c.csv").st_mode & 0o777 == 0o644  # mkstemp alone gave 0600
     assert not list(tmp_path.glob(".*.tmp"))
+
+
+def test_straight_movements_are_said_in_words(capsys):
+    from networks.samples.build import SAMPLES_DIR
+
+    net = SAMPLES_DIR / "intersection" / "intersection.net.xml"
+    assert main(["curves", "-n", str(net), "--limit", "100"]) == 0
+    lines = capsys.readouterr().out.splitlines()
+    straight = [ln for ln in lines if "XW_in_0->XE_out_0" in ln]
+    assert len(straight) == 1 and "straight on" in straight[0] and "inf" not in straight[0]
+    right = [ln for ln in lines if "TW_in_0->TS_out_0" in ln]
+    assert "right 90°" in right[0]

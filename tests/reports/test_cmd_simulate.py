@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import csv
 import json
+import os
+import subprocess
 from types import SimpleNamespace
 
 import numpy as np
@@ -109,6 +111,27 @@ def test_fcd_and_replay_config(outputs, capsys):
     assert 'net-file value="' in (a / "replay.sumocfg").read_text()
     assert not (b / "fcd.xml").exists()
     assert not list(a.glob(".*tmp"))
+
+
+def test_the_printed_replay_command_runs_after_a_pip_install(outputs, tmp_path):
+    # a fresh shell of a pip install: no SUMO_HOME, no activated venv on PATH
+    a, _ = outputs
+    env = {k: v for k, v in os.environ.items() if k not in ("SUMO_HOME", "VIRTUAL_ENV")}
+    env["PATH"] = "/usr/bin:/bin"
+    command = cmd_simulate.replay_command(a / "replay.sumocfg", a / "fcd.xml")
+    # --help: fcdReplay.py parses its options and exits before it opens sumo-gui (which
+    # needs a display); it gets that far only with SUMO_HOME's sumolib and traci
+    for cmd in (command + " --help", f"sh {a / 'replay.sh'} --help"):
+        proc = subprocess.run(["sh", "-c", cmd], capture_output=True, text=True, env=env,
+                              cwd=tmp_path, timeout=120)
+        assert proc.returncode == 0, (cmd, proc.stderr)
+        assert "--fcd-files" in proc.stdout
+    assert os.access(a / "replay.sh", os.X_OK)
+    # the same command without SUMO_HOME, as printed before: it fails
+    bare = command.split(" ", 1)[1]
+    proc = subprocess.run(["sh", "-c", bare + " --help"], capture_output=True, text=True,
+                          env=env, cwd=tmp_path, timeout=120)
+    assert proc.returncode != 0
 
 
 def test_summary_printed(tmp_path, capsys):

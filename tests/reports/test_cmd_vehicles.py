@@ -1,6 +1,7 @@
 """`clearance vehicles` as a user runs it: CSV columns, units, bad input exit status 2."""
 
 import csv
+import logging
 import subprocess
 import sys
 
@@ -96,3 +97,23 @@ def test_combinations_show_the_180_degree_turn_and_no_steady_state(tmp_path, cap
     assert rows["WB-62"]["combination_inside_radius"] == ""
     assert float(rows["WB-40"]["combination_inside_radius"]) == pytest.approx(18.12, abs=0.01)
     assert float(rows["WB-62"]["ctr"]) == pytest.approx(41.0, abs=0.05)
+
+
+def test_the_smart_rows_w_l_warning_only_where_that_row_is_used(capsys, caplog):
+    caplog.set_level(logging.WARNING, logger="vehicles")
+    assert main(["vehicles", "--vehicle", "P"]) == 0
+    assert "w_l" not in caplog.text
+    assert "(1 vehicle;" in capsys.readouterr().out  # not "1 vehicles"
+    assert main(["vehicles", "--vehicle", "2009 Smart Car", "--vehicle", "P"]) == 0
+    assert caplog.text.count("column w_l: published 0.86") == 1
+    caplog.clear()
+    assert main(["vehicles"]) == 0  # every row: once
+    assert caplog.text.count("column w_l: published 0.86") == 1
+
+
+def test_an_unknown_name_suggests_the_one_of_another_case(capsys):
+    assert main(["vehicles", "--vehicle", "p"]) == 2
+    err = capsys.readouterr().err
+    assert "unknown vehicle 'p'; did you mean 'P'" in err and "Traceback" not in err
+    assert main(["vehicles", "--vehicle", "wb62"]) == 2
+    assert "did you mean 'WB-62'" in capsys.readouterr().err

@@ -6,9 +6,17 @@ import math
 import pytest
 
 from analysis.control_law import safe_pathway
+from analysis.turning import turning_metrics
 from reports.cli import main
-from reports.compare import comparison_table
-from reports.templates import build_templates, template_path
+from reports.compare import PANEL_LINES, comparison_table, panels_of
+from reports.templates import (
+    build_templates,
+    steady_words,
+    template_dimensions,
+    template_path,
+    write_template_sheets,
+)
+from tests.reports.test_sheets import pdf_pages
 from vehicles.table import bundled_table, load_tables
 
 NAMES = ["2009 Smart Car", "2010 Honda Odyssey", "P", "SU-30"]
@@ -53,3 +61,56 @@ def test_compare_command_writes_table_and_figures(tmp_path, capsys):
         assert (tmp_path / f"{stem}.png").stat().st_size > 10_000
         assert (tmp_path / f"{stem}.svg").read_text().startswith("<?xml")
     assert "2010 Honda Odyssey" in capsys.readouterr().out
+    assert len(pdf_pages((tmp_path / "templates.pdf").read_bytes())) == 2  # one per model
+
+
+def test_template_dimensions_agree_with_the_steady_state():
+    # a car through 180 degrees: at three quarters of the arc it turns steadily, so the
+    # swept width on that ray and the inside radius are the steady-state ones (DESIGN §4)
+    t = load_tables([bundled_table("paper_table1")], ["2010 Honda Pilot"])
+    (tpl,) = build_templates(t, 180.0)
+    v = tpl.vehicle
+    d = template_dimensions(tpl)
+    rho = math.sqrt(tpl.radius_m**2 - v.wheelbase_m**2)
+    assert d["ctr_m"] == tpl.radius_m
+    assert d["inside_radius_m"] == pytest.approx(rho - v.width_m / 2, rel=0.01)
+    swept = float(safe_pathway(rho, v.wheelbase_m, v.width_m, v.front_overhang_m))
+    assert d["swept"][2] == pytest.approx(swept, rel=0.02)
+    assert math.isnan(d["trailer_inside_radius_m"]) and math.isnan(d["max_articulation_deg"])
+
+
+def test_template_sheets_one_a3_page_per_vehicle_with_trailer_words(tmp_path):
+    t = load_tables(None, ["P", "WB-62", "WB-40"])
+    built = {a: build_templates(t, a) for a in (90.0, 180.0)}
+    path = write_template_sheets(t, tmp_path / "templates.pdf", "ft", built)
+    pages = pdf_pages(path.read_bytes())
+    assert len(pages) == 3
+    assert all(w == pytest.approx(420 * 72 / 25.4, abs=0.5) and
+               h == pytest.approx(297 * 72 / 25.4, abs=0.5) for w, h in pages)
+    m = turning_metrics(t).set_index("vehicle")
+    assert steady_words(m.loc["WB-62"], "ft").startswith("no steady state at full lock")
+    words = steady_words(m.loc["WB-40"], "ft")
+    assert words.startswith("steady state") and words.endswith(" ft")
+    assert steady_words(m.loc["P"], "ft") == ""
+    # the trailer's own inside radius is measured and lies inside the combination's sweep
+    d = template_dimensions(built[180.0][2])
+    assert d["trailer_inside_radius_m"] >= d["inside_radius_m"] - 1e-9
+    assert 0 < d["max_articulation_deg"] < 90
+
+
+def test_compare_table_tells_the_wb62_from_the_wb67():
+    c = comparison_table(load_tables(None, ["WB-62", "WB-67", "P"]), "ft")
+    by = c.set_index("vehicle")
+    # same tractor, so the same tractor columns; the design turn with the trailer differs
+    # (Green Book minimum inside radii 7.9 ft and 1.9 ft)
+    assert by.loc["WB-62", "ctr"] == by.loc["WB-67", "ctr"]
+    assert by.loc["WB-62", "design_inside_radius"] == pytest.approx(7.9, abs=1.0)
+    assert by.loc["WB-67", "design_inside_radius"] == pytest.approx(1.9, abs=1.0)
+    assert not by.loc["WB-62", "steady_state"] and by.loc["P", "steady_state"] is None
+
+
+def test_small_multiples_keep_each_panel_to_a_few_lines():
+    t = load_tables(None)
+    panels = panels_of(list(t.names), list(t.frame["category"]))
+    assert sorted(n for _, ms in panels for n in ms) == sorted(t.names)
+    assert max(len(ms) for _, ms in panels) <= PANEL_LINES

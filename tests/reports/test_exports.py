@@ -17,20 +17,16 @@ import numpy as np
 import pyproj
 import pytest
 from lxml import etree
+from shapely.affinity import translate
 from shapely.geometry import LineString, MultiPolygon, Point, Polygon
 from shapely.ops import unary_union
 
 from networks.reader import Location, read_network
 from networks.sumo.tools import find_sumo_binary, sumo_home
-from reports.export_dxf import VERDICT_ACI, dxf_layer_name
-from reports.export_geojson import COORDS_LOCAL, COORDS_LONLAT, COORDS_MIXED
-from reports.export_sumo import hole_free_pieces
-from reports.exports import (
-    EnvelopeRecord,
-    write_dxf,
-    write_geojson,
-    write_sumo_additional,
-)
+from reports.export_dxf import BASE_LAYERS, VERDICT_ACI, dxf_layer_name, write_dxf
+from reports.export_geojson import COORDS_LOCAL, COORDS_LONLAT, COORDS_MIXED, write_geojson
+from reports.export_sumo import hole_free_pieces, write_sumo_additional
+from reports.exports import EnvelopeRecord, conflict_parts
 from vehicles.errors import InputError
 
 SAMPLES = Path(__file__).resolve().parents[2] / "networks" / "samples"
@@ -262,11 +258,13 @@ def test_dxf_reopens_with_layers_and_vertices(tmp_path: Path):
     doc = ezdxf.readfile(path)
     assert doc.header["$INSUNITS"] == 6
     names = {layer.dxf.name for layer in doc.layers} - {"0", "Defpoints"}
-    assert names == {"Car", dxf_layer_name(NASTY)} and dxf_layer_name(NASTY) != NASTY
-    assert doc.layers.get(dxf_layer_name(NASTY)).description == NASTY
+    nasty = dxf_layer_name(NASTY)
+    assert nasty != NASTY
+    assert names == {f"{v}-{s}" for v in ("Car", nasty) for s in ("ENVELOPE", "LABEL")}
+    assert doc.layers.get(f"{nasty}-ENVELOPE").description.startswith(NASTY + ": ")
     msp = doc.modelspace()
     for rec in recs:
-        layer = dxf_layer_name(rec.vehicle)
+        layer = f"{dxf_layer_name(rec.vehicle)}-ENVELOPE"
         lines = [
             e
             for e in msp.query(f'LWPOLYLINE[layer=="{layer}"]')
@@ -287,15 +285,66 @@ def test_dxf_reopens_with_layers_and_vertices(tmp_path: Path):
                 < 1e-9
             ]
             assert len(match) == 1
-        texts = [t.dxf.text for t in msp.query(f'TEXT[layer=="{layer}"]')]
+        label = f"{dxf_layer_name(rec.vehicle)}-LABEL"
+        texts = [t.dxf.text for t in msp.query(f'TEXT[layer=="{label}"]')]
         assert rec.curve_id in texts
+
+
+def test_dxf_base_plan_and_conflict_layers(tmp_path: Path):
+    net = read_network(INTERSECTION)
+    turn = translate(TURN, -400.0, 0.0)  # at the 2+2-lane crossing X of the sample
+    lanes, paved = turn.buffer(1.6, cap_style="flat"), turn.buffer(4.0, cap_style="flat")
+    env = turn.buffer(2.5, cap_style="flat")  # 0.9 m beyond its lanes each side, paved
+    body = turn.buffer(2.2)
+    wheel = turn.offset_curve(1.0)
+    outside_lanes, outside_pavement = conflict_parts(env, lanes, paved)
+    rec = EnvelopeRecord("intersection", "P", ":X_1_0", "turn", "encroaches", -0.9, env,
+                         offset_m=0.3, body_envelope=body, outside_lanes=outside_lanes,
+                         outside_pavement=outside_pavement, body_outlines=(turn.buffer(1.0),),
+                         wheel_paths=(wheel,))
+    path = write_dxf(tmp_path / "intersection.dxf", [rec], net)
+    doc = ezdxf.readfile(path)
+    auditor = doc.audit()
+    assert not auditor.has_errors and not auditor.has_fixes
+    names = {layer.dxf.name for layer in doc.layers} - {"0", "Defpoints"}
+    assert names == set(BASE_LAYERS) | {
+        "P-ENVELOPE", "P-CLEARANCE-ENVELOPE", "P-CONFLICT-LANE", "P-BODY", "P-WHEEL-PATH",
+        "P-LABEL"}  # no conflict with the pavement: no such layer
+    assert doc.layers.get("BASE-LANE-LINE").dxf.linetype == "DASHED"
+    msp = doc.modelspace()
+
+    def area(layer: str) -> float:
+        return sum(Polygon(e.get_points("xy")).area
+                   for e in msp.query(f'LWPOLYLINE[layer=="{layer}"]'))
+
+    assert area("P-CLEARANCE-ENVELOPE") == pytest.approx(env.area, rel=1e-9)
+    assert area("P-ENVELOPE") == pytest.approx(body.area, rel=1e-9)
+    assert area("P-CONFLICT-LANE") == pytest.approx(env.area - lanes.area, rel=1e-6)
+    assert len(msp.query('HATCH[layer=="P-CONFLICT-LANE"]')) == 2  # one each side
+    (wheel_line,) = msp.query('LWPOLYLINE[layer=="P-WHEEL-PATH"]')
+    assert not wheel_line.closed
+    assert LineString(wheel_line.get_points("xy")).length == pytest.approx(wheel.length)
+    # the base plan: the pavement's edges enclose the lanes of the sample near the turn
+    edges = [Polygon(e.get_points("xy"))
+             for e in msp.query('LWPOLYLINE[layer=="BASE-PAVEMENT-EDGE"]')]
+    probe = turn.interpolate(0.5, normalized=True)
+    assert any(e.contains(probe) for e in edges)
+    assert not any(e.contains(Point(probe.x + 40.0, probe.y - 40.0)) for e in edges)
+    lines = msp.query('LWPOLYLINE[layer=="BASE-LANE-LINE"]')
+    assert len(lines) > 0 and all(not e.closed for e in lines)
+    assert len(msp.query('LWPOLYLINE[layer=="BASE-JUNCTION"]')) >= 1
+
+
+def test_conflict_parts_doctest_and_plan():
+    failures, tried = doctest.testmod(importlib.import_module("reports.exports"))
+    assert tried > 0 and failures == 0
 
 
 DXF_SCRIPT = """
 import sys
 sys.path.insert(0, sys.argv[2])
 from test_exports import records
-from reports.exports import write_dxf
+from reports.export_dxf import write_dxf
 write_dxf(sys.argv[1], records())
 """
 
@@ -327,7 +376,8 @@ def test_dxf_layer_names_are_sanitised():
     assert dxf_layer_name("Bus 12 m") == "Bus 12 m"
 
 
-@pytest.mark.parametrize("name", ["reports.export_sumo", "reports.export_dxf"])
+@pytest.mark.parametrize("name", ["reports.export_sumo", "reports.export_dxf",
+                                  "reports.export_geojson"])
 def test_docstring_examples(name: str):
     failures, tried = doctest.testmod(importlib.import_module(name))
     assert tried > 0 and failures == 0

@@ -1,7 +1,11 @@
 """`clearance report` as a user runs it: every output, determinism, atomicity."""
 
+import base64
 import csv
+import html
+import io
 import json
+import math
 import os
 import re
 import shutil
@@ -9,9 +13,11 @@ import subprocess
 from pathlib import Path
 
 import ezdxf
+import pyproj
 import pytest
 import sumo
 
+from networks.reader import read_network
 from reports.cli import main
 from reports.cmd_report import sample_networks
 from reports.study import COLUMNS
@@ -79,6 +85,42 @@ def test_html_is_self_contained(report):
     assert "turn:X:XN_in_0-&gt;XW_out_0" in html
 
 
+def test_html_contents_links_and_captions(report, rows):
+    text = (report / "report.html").read_text()
+    ids = set(re.findall(r'\sid="([^"]+)"', text))
+    hrefs = re.findall(r'href="#([^"]+)"', text)
+    assert set(hrefs) <= ids  # every link has its target
+    assert '<nav class="toc"' in text and 'href="#net-intersection-' in text
+    # every matrix row and cell links to its curve's section, and that section lists every
+    # vehicle run on the curve, margins in words with the paved margin
+    matrix = re.findall(r'<tr><td class="id"><a href="#(curve-[^"]+)">([^<]+)</a></td>(.*?)</tr>',
+                        text)
+    assert matrix
+    for target, cid, cells in matrix:
+        assert cells.count(f'href="#{target}"') == len(VEHICLES)
+        section = text.split(f'id="{target}"', 1)[1].split("<h4", 1)[0]
+        curve = html.unescape(cid)
+        runs = [r for r in rows if r["curve_id"] == curve]
+        assert len(runs) == len(VEHICLES)
+        for r in runs:
+            found = re.search(re.escape(f"{r['vehicle']}: {r['verdict']}, ")
+                              + r"(?:([\d.]+) m (beyond|inside) its lanes|no margin)"
+                              r"(?:, ([\d.]+) m (beyond|inside) the pavement)?", section)
+            assert found, (curve, r["vehicle"])
+            for value, side, column in ((found[1], found[2], "margin_m"),
+                                        (found[3], found[4], "paved_margin_m")):
+                m = float(r[column])
+                if not math.isfinite(m):
+                    assert value is None
+                    continue
+                signed = float(value) * (-1 if side == "beyond" else 1)
+                assert signed == pytest.approx(m, abs=0.0051)
+    assert not re.search(r"(?<![\d.])1 (vehicles|curves|runs|networks)\b", text)
+    # compact figures, loaded lazily below the plan
+    assert text.count('loading="lazy"') == text.count("<img") - 1
+    assert len(text.encode()) < 1_000_000
+
+
 def test_markdown_links_its_figures(report):
     md = (report / "report.md").read_text()
     links = re.findall(r"!\[[^\]]*\]\(([^)]+)\)", md)
@@ -89,9 +131,10 @@ def test_markdown_links_its_figures(report):
 
 
 def test_geojson_is_valid(report, rows):
-    gj = json.loads((report / "swept.geojson").read_text())
+    # the sample has no projection: a file named and described as local metres, no crs
+    gj = json.loads((report / "exports" / "intersection.local-metres.geojson").read_text())
     assert gj["type"] == "FeatureCollection"
-    assert "local metres" in gj["coordinate_system"]  # the sample has no projection
+    assert "local metres" in gj["coordinate_system"] and "crs" not in gj
     assert len(gj["features"]) == len(rows)
     for f in gj["features"]:
         assert f["type"] == "Feature"
@@ -107,26 +150,97 @@ def test_geojson_is_valid(report, rows):
 def test_sumo_loads_the_polygons(report):
     env = dict(os.environ, SUMO_HOME=sumo.SUMO_HOME)
     proc = subprocess.run([str(Path(sumo.SUMO_HOME) / "bin" / "sumo"), "-n", str(NET),
-                           "-a", str(report / "swept.add.xml"), "--end", "1",
+                           "-a", str(report / "exports" / "intersection.add.xml"), "--end", "1",
                            "--no-step-log", "true"], capture_output=True, text=True, env=env,
                           timeout=120)
     assert proc.returncode == 0, proc.stderr
     assert "Error" not in proc.stderr
 
 
-def test_dxf_reopens_with_a_layer_per_vehicle(report):
-    doc = ezdxf.readfile(report / "swept.dxf")
+def test_dxf_reopens_with_the_base_plan_and_layers_per_vehicle(report, rows):
+    doc = ezdxf.readfile(report / "exports" / "intersection.dxf")
     auditor = doc.audit()
     assert not auditor.has_errors and not auditor.has_fixes
     layers = {layer.dxf.name for layer in doc.layers}
-    assert {"P", "CITY-BUS"} <= layers
-    assert len(doc.modelspace().query("LWPOLYLINE")) >= 2
+    assert {"BASE-PAVEMENT-EDGE", "BASE-LANE-LINE", "BASE-JUNCTION", "P-ENVELOPE",
+            "P-LABEL", "CITY-BUS-ENVELOPE", "CITY-BUS-CONFLICT-LANE"} <= layers
+    msp = doc.modelspace()
+    labels = [t.dxf.text for t in msp.query('TEXT[layer=="P-LABEL"]')]
+    assert set(labels) == {r["curve_id"] for r in rows if r["vehicle"] == "P"}
+    assert len(msp.query('LWPOLYLINE[layer=="BASE-PAVEMENT-EDGE"]')) >= 1
+    # the bus encroaches somewhere (the sample's design): its conflict is hatched
+    assert any(r["verdict"] != "clear" for r in rows if r["vehicle"] == "CITY-BUS")
+    assert len(msp.query('HATCH[layer=="CITY-BUS-CONFLICT-LANE"]')) >= 1
+    # the worst run of each curve is drawn with its body at intervals and its wheel paths:
+    # seven outlines of four corners, and the paths of the outer front and inner rear wheel
+    bodies = msp.query('LWPOLYLINE[layer=="CITY-BUS-BODY"]')
+    assert len(bodies) >= 7 and all(len(b) == 4 for b in bodies)
+    assert len(msp.query('LWPOLYLINE[layer=="CITY-BUS-WHEEL-PATH"]')) >= 2
+
+
+def test_exports_per_network_in_each_networks_coordinates(tmp_path):
+    nets = [NET, next(p for p in sample_networks() if p.stem.startswith("roundabout"))]
+    out = tmp_path / "two"
+    args = ["report", "-o", str(out), "--vehicle", "P", "--method", "analytic"]
+    assert main(args + [a for n in nets for a in ("-n", str(n))]) == 0
+    names = sorted(p.name for p in (out / "exports").iterdir())
+    assert names == sorted(f"{n}{s}" for n in ("intersection", "roundabout")
+                           for s in (".add.xml", ".dxf", ".local-metres.geojson"))
+    env = dict(os.environ, SUMO_HOME=sumo.SUMO_HOME)
+    for net in nets:
+        name = net.name.removesuffix(".net.xml")
+        gj = json.loads((out / "exports" / f"{name}.local-metres.geojson").read_text())
+        assert {f["properties"]["network"] for f in gj["features"]} == {name}
+        # every envelope lies on its own network (within its boundary, plus a car length)
+        x0, y0, x1, y1 = read_network(net).location.conv_boundary
+        for f in gj["features"]:
+            xy = [p for poly in ([f["geometry"]["coordinates"]]
+                                 if f["geometry"]["type"] == "Polygon"
+                                 else f["geometry"]["coordinates"]) for ring in poly
+                  for p in ring]
+            assert all(x0 - 6 < x < x1 + 6 and y0 - 6 < y < y1 + 6 for x, y in xy)
+        add = out / "exports" / f"{name}.add.xml"
+        proc = subprocess.run([str(Path(sumo.SUMO_HOME) / "bin" / "sumo"), "-n", str(net),
+                               "-a", str(add), "--end", "1", "--no-step-log", "true"],
+                              capture_output=True, text=True, env=env, timeout=120)
+        assert proc.returncode == 0 and "Error" not in proc.stderr, proc.stderr
+        assert f"swept:{name}:" in add.read_text()
+        doc = ezdxf.readfile(out / "exports" / f"{name}.dxf")
+        assert not doc.audit().has_errors
+
+
+def test_origin_places_a_network_without_projection(tmp_path):
+    geo, local = tmp_path / "geo", tmp_path / "local"
+    assert run_report(geo, "--method", "analytic", "--origin", "48.137,11.575") == 0
+    assert run_report(local, "--method", "analytic") == 0
+    gj = json.loads((geo / "exports" / "intersection.geojson").read_text())
+    plain = json.loads((local / "exports" / "intersection.local-metres.geojson").read_text())
+    assert gj["coordinate_system"].startswith("WGS84") and "crs" not in gj
+    assert gj["networks"]["intersection"]["origin_lat_lon"] == [48.137, 11.575]
+    off = read_network(NET).location.net_offset
+    geod = pyproj.Geod(ellps="WGS84")
+    assert len(gj["features"]) == len(plain["features"]) > 0
+    for f, g in zip(gj["features"], plain["features"], strict=True):
+        lon, lat = f["geometry"]["coordinates"][0][0] if f["geometry"]["type"] == "Polygon" \
+            else f["geometry"]["coordinates"][0][0][0]
+        x, y = g["geometry"]["coordinates"][0][0] if g["geometry"]["type"] == "Polygon" \
+            else g["geometry"]["coordinates"][0][0][0]
+        # a vertex's distance from the origin is its distance from the input's 0,0
+        azimuth, _, dist = geod.inv(11.575, 48.137, lon, lat)
+        assert dist == pytest.approx(math.hypot(x - off[0], y - off[1]), abs=0.05)
+        # and its direction (north = 0, east = 90°) its direction there, to a centimetre
+        assert math.radians(azimuth) == pytest.approx(math.atan2(x - off[0], y - off[1]),
+                                                      abs=0.03 / max(dist, 1.0))
+    assert main(["report", "-n", str(NET), "--vehicle", "P", "-o", str(tmp_path / "x"),
+                 "--origin", "95,11"]) == 2
 
 
 def test_identical_inputs_give_identical_files(report, tmp_path):
     again = tmp_path / "again"
     assert run_report(again) == 0
-    for name in ("clearance.csv", "summary.json", "swept.geojson", "swept.dxf"):
+    names = ["clearance.csv", "summary.json", "exports/intersection.local-metres.geojson",
+             "exports/intersection.dxf", "exports/intersection.add.xml"]
+    for name in names:
         assert (again / name).read_bytes() == (report / name).read_bytes(), name
 
 
@@ -173,7 +287,7 @@ def test_a_report_replaces_its_own_report_and_one_from_before_markers(report, tm
     # the ordinary permissions of umask 022, folders and files alike
     assert os.stat(old).st_mode & 0o777 == 0o755
     assert os.stat(old / "figures").st_mode & 0o777 == 0o755
-    for f in ("clearance.csv", "report.html", "swept.dxf", ".clearance-report"):
+    for f in ("clearance.csv", "report.html", "exports/intersection.dxf", ".clearance-report"):
         assert os.stat(old / f).st_mode & 0o777 == 0o644, f
     pngs = list((old / "figures").glob("*.png"))
     assert pngs and all(os.stat(p).st_mode & 0o777 == 0o644 for p in pngs)
@@ -200,7 +314,7 @@ def test_a_real_osm_network_with_a_projection(tmp_path):
         got = list(csv.DictReader(fh))
     assert len(got) > 50
     assert {r["verdict"] for r in got} <= {"clear", "encroaches", "fails", "cannot-turn"}
-    gj = json.loads((out / "swept.geojson").read_text())
+    gj = json.loads((out / "exports" / "ingolstadt.geojson").read_text())
     assert gj["coordinate_system"].startswith("WGS84")
     lon, lat = gj["features"][0]["geometry"]["coordinates"][0][0][:2]
     assert 11.2 < lon < 11.6 and 48.6 < lat < 48.9  # Ingolstadt
@@ -239,3 +353,25 @@ def test_waivers_and_a_selection(tmp_path):
     with open(out / "clearance.csv", newline="") as fh:
         assert list(next(csv.DictReader(fh))) == COLUMNS
     assert "waived" not in json.loads((out / "summary.json").read_text())
+
+
+def test_embedded_figures_are_compact_copies(report):
+    from PIL import Image
+
+    from reports.document import HTML_IMAGE_COLOURS, HTML_IMAGE_WIDTH_PX, compact_png
+
+    text = (report / "report.html").read_text()
+    embedded = re.findall(r'src="data:image/png;base64,([^"]+)"', text)
+    pngs = sorted((report / "figures").glob("*.png"))
+    assert embedded and pngs
+    for png in pngs[:4]:
+        small = compact_png(png)
+        with Image.open(io.BytesIO(small)) as im, Image.open(png) as full:
+            assert im.width == min(full.width, HTML_IMAGE_WIDTH_PX)
+            assert im.mode == "P" and len(im.getcolors(256)) <= HTML_IMAGE_COLOURS
+            # the same picture: aspect kept
+            assert abs(im.height / im.width - full.height / full.width) < 0.01
+        assert len(small) < png.stat().st_size
+    # what the page embeds is those copies, not the full figures
+    sizes = sorted(len(base64.b64decode(e)) for e in embedded)
+    assert sizes[-1] < max(p.stat().st_size for p in pngs)

@@ -349,3 +349,25 @@ def test_a_network_sumo_refuses_is_an_input_error_naming_sumos_message(nets, tab
     msg = str(info.value)
     assert msg.startswith(f"{bad}: SUMO cannot load the network: ")
     assert "':nope_0'" in msg and "via-lane" in msg
+
+
+def test_a_lead_in_over_a_lane_the_class_may_not_use_is_driven(build_net, table):
+    # a bus-only street W-A, then a short general one A-X before the turn at X: a car's
+    # 30 m lead-in runs back over the bus lane, where SUMO will not let a car depart
+    from networks.curves import CurveOptions, extract_curves
+
+    net_path = build_net(
+        '<node id="W" x="-80" y="0"/><node id="A" x="-10" y="0"/>'
+        '<node id="X" x="0" y="0" type="priority"/><node id="N" x="0" y="60"/>',
+        '<edge id="WA" from="W" to="A" numLanes="1" allow="bus"/>'
+        '<edge id="AX" from="A" to="X" numLanes="1"/>'
+        '<edge id="XN" from="X" to="N" numLanes="1"/>',
+        None, "--no-turnarounds", name="buslead")
+    net = read_network(net_path)
+    [turn] = [c for c in extract_curves(net, ["turn"],
+                                       options=CurveOptions(approach_length_m=30.0))
+              if c.curve_id.startswith("turn:X:")]
+    assert any(lane.startswith("WA_") for lane in turn.lanes)  # the lead-in reaches WA
+    (run,) = drive(net, [(table.vehicle("P"), turn)])
+    assert run.error == "" and run.verdict != "error", run.reason
+    assert run.sumo_steps > 0
