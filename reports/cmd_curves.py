@@ -103,7 +103,7 @@ def curve_row(curve: Curve) -> dict[str, str]:
 def movement(kind: str, turn_angle_deg: float, min_radius_m: float) -> str:
     """The movement in words: ``straight on``, ``left 90°``, ``right 45°``, ``U-turn``.
 
-    Left turns are positive (DESIGN.md §3).
+    Left turns are positive (docs/design.md §3).
 
     Examples
     --------
