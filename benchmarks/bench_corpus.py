@@ -9,7 +9,11 @@ vehicle the verdict counts (``ct`` cannot-turn, ``f`` fails, ``e`` encroaches, `
 ``uturn`` (the issue's acceptance figure). A network whose report does not complete is
 printed with its exit status and the last line of its error output.
 
-Run: ``python benchmarks/bench_corpus.py [--vehicle NAME ...] [--workers N] [--only TEXT]``
+With ``--lane-too`` each network gets a second row, the same report with ``--lane-only``
+(no swung paths): the time the search of swung paths costs, and the verdicts without it.
+
+Run: ``python benchmarks/bench_corpus.py [--vehicle NAME ...] [--workers N] [--only TEXT]
+[--lane-too]``
 """
 
 from __future__ import annotations
@@ -32,6 +36,9 @@ def main() -> None:
     parser.add_argument("--vehicle", action="append", help="vehicles (default P and WB-62)")
     parser.add_argument("--workers", type=int, default=None)
     parser.add_argument("--only", action="append", help="networks whose path contains TEXT")
+    parser.add_argument("--lane-too", action="store_true",
+                        help="also run each report with --lane-only (no swung paths) and "
+                             "print it as a second row: what the search costs")
     args = parser.parse_args()
     vehicles = args.vehicle or ["P", "WB-62"]
     nets = [p for p in corpus() if not args.only or any(t in str(p) for t in args.only)]
@@ -41,45 +48,52 @@ def main() -> None:
     print(header)
     print("|" + "---|" * (header.count("|") - 1))
     for net in nets:
-        with tempfile.TemporaryDirectory() as tmp:
-            out = Path(tmp) / "report"
-            cmd = clearance_cmd("report", "-n", str(net), "-o", str(out))
-            for v in vehicles:
-                cmd += ["--vehicle", v]
-            if args.workers:
-                cmd += ["--workers", str(args.workers)]
-            m = run_measured(cmd)
-            name = f"{net.parent.name}/{net.name}"
-            size = net.stat().st_size / 1e6
-            if m.returncode != 0 or not (out / "clearance.csv").is_file():
-                last = (m.stderr.strip().splitlines() or ["(no message)"])[-1]
-                print(f"| {name} | {size:.1f} | | | {m.wall_s:.0f} | {m.peak_bytes / 1e6:.0f} "
-                      f"| | exit {m.returncode}: {last[:120]} |")
-                continue
-            summary = json.loads((out / "summary.json").read_text())
-            counts, n = verdict_counts(out / "clearance.csv")
-            kinds: Counter[str] = Counter()
-            for (v, kind, _), c in counts.items():
-                if v == vehicles[0]:
-                    kinds[kind] += c
-            cells = []
-            for v in vehicles:
-                by = Counter()
-                bad = total = 0
-                for (vv, kind, verdict), c in counts.items():
-                    if vv != v:
-                        continue
-                    by[verdict] += c
-                    if kind != "uturn" and verdict != "not-permitted":
-                        total += c
-                        bad += c if verdict in ("fails", "cannot-turn") else 0
-                share = 100.0 * bad / total if total else 0.0
-                cells.append("/".join(str(by[k]) for k in SHORT) + f" ({share:.1f} %)")
-            junctions = summary.get("networks", [{}])[0].get("junctions", "")
-            kind_text = ", ".join(f"{k} {c}" for k, c in sorted(kinds.items()))
-            print(f"| {name} | {size:.1f} | {junctions} | {kind_text} | {m.wall_s:.0f} | "
-                  f"{m.peak_bytes / 1e6:.0f} | {n / m.wall_s:.0f} | " + " | ".join(cells) + " |",
-                  flush=True)
+        _one(net, vehicles, args.workers, [])
+        if args.lane_too:  # the same report judged on the lanes only: the search's cost
+            _one(net, vehicles, args.workers, ["--lane-only"])
+
+
+def _one(net: Path, vehicles: list[str], workers: int | None, extra: list[str]) -> None:
+    """One row: the report of ``net`` (with the ``extra`` options)."""
+    with tempfile.TemporaryDirectory() as tmp:
+        out = Path(tmp) / "report"
+        cmd = clearance_cmd("report", "-n", str(net), "-o", str(out), *extra)
+        for v in vehicles:
+            cmd += ["--vehicle", v]
+        if workers:
+            cmd += ["--workers", str(workers)]
+        m = run_measured(cmd)
+        name = f"{net.parent.name}/{net.name}" + (" (lane only)" if extra else "")
+        size = net.stat().st_size / 1e6
+        if m.returncode != 0 or not (out / "clearance.csv").is_file():
+            last = (m.stderr.strip().splitlines() or ["(no message)"])[-1]
+            print(f"| {name} | {size:.1f} | | | {m.wall_s:.0f} | {m.peak_bytes / 1e6:.0f} "
+                  f"| | exit {m.returncode}: {last[:120]} |")
+            return
+        summary = json.loads((out / "summary.json").read_text())
+        counts, n = verdict_counts(out / "clearance.csv")
+        kinds: Counter[str] = Counter()
+        for (v, kind, _), c in counts.items():
+            if v == vehicles[0]:
+                kinds[kind] += c
+        cells = []
+        for v in vehicles:
+            by = Counter()
+            bad = total = 0
+            for (vv, kind, verdict), c in counts.items():
+                if vv != v:
+                    return
+                by[verdict] += c
+                if kind != "uturn" and verdict != "not-permitted":
+                    total += c
+                    bad += c if verdict in ("fails", "cannot-turn") else 0
+            share = 100.0 * bad / total if total else 0.0
+            cells.append("/".join(str(by[k]) for k in SHORT) + f" ({share:.1f} %)")
+        junctions = summary.get("networks", [{}])[0].get("junctions", "")
+        kind_text = ", ".join(f"{k} {c}" for k, c in sorted(kinds.items()))
+        print(f"| {name} | {size:.1f} | {junctions} | {kind_text} | {m.wall_s:.0f} | "
+              f"{m.peak_bytes / 1e6:.0f} | {n / m.wall_s:.0f} | " + " | ".join(cells) + " |",
+              flush=True)
 
 
 if __name__ == "__main__":

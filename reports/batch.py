@@ -24,6 +24,7 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass, replace
 from pathlib import Path
 
+from analysis.path_search import encroaches_on
 from analysis.tracking import TrackingSettings
 from networks.curves import Curve
 from networks.reader import Network, read_network
@@ -63,6 +64,8 @@ class Batch:
         Folder for SUMO's FCD output, or ``None``.
     log_level
         The study's logging level, for the worker's own log.
+    swing
+        ``False``: judge the lane path only (:attr:`networks.sumo.runs.DriveOptions.swing`).
     use_sumo
         ``False`` computes the simulate method's runs without replaying them in SUMO (the
         same model, envelopes and verdicts; :attr:`networks.sumo.driver.DriveOptions.use_sumo`).
@@ -78,6 +81,7 @@ class Batch:
     log_level: int = logging.WARNING
     part: str = ""
     use_sumo: bool = True
+    swing: bool = True
 
     def __len__(self) -> int:
         return len(self.pairs)
@@ -116,7 +120,7 @@ def error_record(network: str, vehicle: Vehicle, curve: Curve, method: str,
         swept_width_m=nan, available_width_m=curve.lane_width_m, max_offtracking_m=nan,
         max_tracking_error_m=nan, turn_angle_deg=curve.turn_angle_deg,
         max_grade_pct=curve.max_grade_pct, method=method, clearance_m=clearance_m,
-        reason=reason, envelope=None)
+        reason=reason, envelope=None, lane_verdict="error")
 
 
 def lost_batch(batch: Batch, reason: str) -> list[RunRecord]:
@@ -219,7 +223,8 @@ def _simulated(batch: Batch, net: Network, items: Sequence[tuple[int, Curve]]
         Path(batch.fcd_dir).mkdir(parents=True, exist_ok=True)
         fcd = Path(batch.fcd_dir) / file_name([batch.network, f"{batch.index:03d}{batch.part}"],
                                               ".fcd.xml")
-    options = DriveOptions(offset_m=batch.clearance_m, fcd_output=fcd, use_sumo=batch.use_sumo)
+    options = DriveOptions(offset_m=batch.clearance_m, fcd_output=fcd, use_sumo=batch.use_sumo,
+                           swing=batch.swing)
     runs = drive(net, [(batch.vehicles[v], c) for v, c in items], options=options)
     return [_driven_record(batch, r) for r in runs]
 
@@ -240,7 +245,8 @@ def _driven_record(batch: Batch, r: DrivenRun) -> RunRecord:
         max_tracking_error_m=r.run.max_error_m if r.run else nan,
         turn_angle_deg=curve.turn_angle_deg, max_grade_pct=curve.max_grade_pct,
         method="simulate", clearance_m=batch.clearance_m, reason=r.reason,
-        envelope=res.measured)
+        envelope=res.measured, lane_verdict=r.lane_verdict, lane_margin_m=r.lane_margin_m,
+        path=r.path, encroaches_on=r.encroaches_on)
 
 
 def _analytic(batch: Batch, items: Sequence[tuple[int, Curve]]) -> list[RunRecord]:
@@ -254,7 +260,8 @@ def _analytic(batch: Batch, items: Sequence[tuple[int, Curve]]) -> list[RunRecor
             c.margin_m, c.paved_margin_m, curve.min_radius_m, r.vehicle_min_radius_m,
             r.swept_width_m, curve.lane_width_m, r.max_offtracking_m, 0.0,
             curve.turn_angle_deg, curve.max_grade_pct, "analytic", batch.clearance_m,
-            c.reason, r.envelope))
+            c.reason, r.envelope, lane_verdict=c.verdict, lane_margin_m=c.margin_m,
+            path="lane", encroaches_on=encroaches_on(c)))
     return out
 
 

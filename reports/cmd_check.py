@@ -34,6 +34,7 @@ from reports.golden import compare, golden_text, read_golden, relevant
 from reports.options import (
     add_clearance_option,
     add_executor_options,
+    add_lane_only_option,
     add_net_option,
     add_selection_options,
     add_table_option,
@@ -68,6 +69,7 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
                    help="a verdict that does not fail the gate (repeatable)")
     p.add_argument("--method", choices=METHODS, default="simulate")
     add_clearance_option(p)
+    add_lane_only_option(p)
     add_executor_options(p)
     add_selection_options(p)
     add_waivers_option(p)
@@ -143,7 +145,8 @@ def run(args: argparse.Namespace) -> int:
     waivers = (read_waivers(Path(args.waivers), load_tables(args.table, warn=False).names)
                if args.waivers else [])
     study = run_study(args.net, table, args.method, args.clearance, selection=selection,
-                      workers=args.workers, scheduler=args.scheduler)
+                      workers=args.workers, scheduler=args.scheduler,
+                      swing=not args.lane_only)
     frame = study.frame()
     if not selection.is_empty:
         print(f"selection: {selection.describe()}: "

@@ -23,6 +23,7 @@ from reports.file_names import file_name
 from reports.options import (
     add_clearance_option,
     add_executor_options,
+    add_lane_only_option,
     add_net_option,
     add_output_option,
     add_selection_options,
@@ -86,6 +87,7 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
                    help="simulate: drive through libsumo with the kinematic model (default); "
                         "analytic: steady-state geometry")
     add_clearance_option(p)
+    add_lane_only_option(p)
     add_executor_options(p)
     p.add_argument("--units", choices=("m", "ft"), default="m",
                    help="units of lengths shown in the report documents")
@@ -222,7 +224,7 @@ def run(args: argparse.Namespace) -> int:
         fcd = staging / "fcd" if args.fcd else None
         study = run_study(nets, table, args.method, args.clearance, fcd_dir=fcd,
                           workers=args.workers, scheduler=args.scheduler,
-                          selection=selection)
+                          selection=selection, swing=not args.lane_only)
         waived = study_waivers(study.frame(), waivers) if waivers is not None else None
         write_report(study, staging, tables, args.units, waived, origin)
     frame = study.frame()

@@ -57,6 +57,7 @@ from reports.exports import EnvelopeRecord
 from reports.file_names import file_name
 from reports.options import (
     add_clearance_option,
+    add_lane_only_option,
     add_net_option,
     add_output_option,
     add_selection_options,
@@ -89,6 +90,10 @@ RESULT_COLUMNS = (
     "swept_width_m",
     "sumo_max_deviation_m",
     "sumo_steps",
+    "lane_verdict",
+    "lane_margin_m",
+    "path",
+    "encroaches_on",
     "reason",
 )
 
@@ -128,6 +133,7 @@ def add_parser(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParse
     add_output_option(p, folder=True, metavar="DIR", type=Path,
                       help="write results.csv, envelopes.geojson and trajectories/ here")
     add_clearance_option(p)
+    add_lane_only_option(p)
     p.add_argument("--workers", type=int, default=None, metavar="N",
                    help="worker processes that drive the runs (default: one per core)")
     p.add_argument("--fcd", action="store_true",
@@ -160,7 +166,8 @@ def run(args: argparse.Namespace) -> int:
     vehicles = [table.vehicle(n) for n in dict.fromkeys(args.vehicle)]
     settings = TrackingSettings()
     options = DriveOptions(batch_size=args.batch, offset_m=args.clearance,
-                           use_sumo=not args.no_sumo, sumo_step_s=args.sumo_step)
+                           use_sumo=not args.no_sumo, sumo_step_s=args.sumo_step,
+                           swing=not args.lane_only)
     options.samples_per_step(settings.dt_s)  # a step that does not fit: exit 2 before work
     # the output folder is checked and locked before the network is read
     folder = output_folder(args.output, LAYOUT) if args.output is not None else nullcontext()
@@ -275,6 +282,10 @@ def result_row(r: DrivenRun) -> dict[str, str]:
         "swept_width_m": _num(res.swept.max_swept_width_m if res else None),
         "sumo_max_deviation_m": _num(r.sumo_max_deviation_m, 4),
         "sumo_steps": str(r.sumo_steps),
+        "lane_verdict": r.lane_verdict,
+        "lane_margin_m": _num(r.lane_margin_m),
+        "path": r.path,
+        "encroaches_on": r.encroaches_on,
         "reason": r.reason,
     }
 

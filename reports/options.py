@@ -35,6 +35,13 @@ def add_clearance_option(p: argparse.ArgumentParser) -> None:
                    help="clearance offset the swept envelope is grown by (m, default 0)")
 
 
+def add_lane_only_option(p: argparse.ArgumentParser) -> None:
+    """``--lane-only``: judge every run on its lane's centre line, search no swung paths."""
+    p.add_argument("--lane-only", action="store_true",
+                   help="judge every run on its lane's centre line only: no swung paths "
+                        "for the runs that do not clear there (simulate method)")
+
+
 def add_executor_options(p: argparse.ArgumentParser) -> None:
     """``--workers N`` and ``--scheduler ADDRESS``: where a study's runs are driven."""
     p.add_argument("--workers", type=int, default=None, metavar="N",

@@ -7,6 +7,7 @@ the verdicts (:data:`VERDICT_ORDER`: ``error`` before the order
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 
 from shapely.geometry.base import BaseGeometry
@@ -19,7 +20,8 @@ __all__ = ["COLUMNS", "VERDICT_ORDER", "RunRecord"]
 COLUMNS = ["network", "vehicle", "curve_id", "kind", "junction", "verdict", "margin_m",
            "paved_margin_m", "curve_radius_m", "vehicle_min_radius_m", "swept_width_m",
            "available_width_m", "max_offtracking_m", "max_tracking_error_m", "turn_angle_deg",
-           "max_grade_pct", "method", "clearance_m", "reason"]
+           "max_grade_pct", "method", "clearance_m", "lane_verdict", "lane_margin_m", "path",
+           "encroaches_on", "reason"]
 
 #: Verdicts worst first, as ranks: ``error`` (a run the tool or SUMO could not complete; its
 #: reason says why) before the run verdicts of :data:`analysis.clearance.VERDICTS`, which
@@ -51,6 +53,15 @@ class RunRecord:
     clearance_m: float
     reason: str
     envelope: BaseGeometry | None = field(repr=False)
+    #: The verdict and margin on the lane's centre line (the same as ``verdict`` and
+    #: ``margin_m`` where the lane path was taken).
+    lane_verdict: str = ""
+    lane_margin_m: float = math.nan
+    #: ``lane`` or ``swung``: the path the verdict judges (:mod:`networks.sumo.swing`).
+    path: str = "lane"
+    #: What the path's envelope encroaches on: ``same-direction lanes``, ``opposing
+    #: lanes``, ``shoulder`` (beyond the paved area), or empty.
+    encroaches_on: str = ""
 
     def row(self) -> dict[str, object]:
         """The record's values by :data:`COLUMNS`."""

@@ -165,7 +165,7 @@ def batches_of(nc: NetworkCurves, vehicles: Sequence[Vehicle], method: str,
                clearance_m: float, fcd_dir: Path | None = None,
                size: int = BATCH_RUNS,
                allowed: dict[str, list[int]] | None = None,
-               use_sumo: bool = True) -> Iterator[Batch]:
+               use_sumo: bool = True, swing: bool = True) -> Iterator[Batch]:
     """The batches of one network: consecutive curves, each with all its vehicles (those
     ``allowed`` on it, when given: vehicle indices by curve id), up to ``size`` runs (one
     curve at least).
@@ -185,13 +185,15 @@ def batches_of(nc: NetworkCurves, vehicles: Sequence[Vehicle], method: str,
             continue
         if pairs and len(pairs) + len(which) > size:
             yield Batch(nc.name, k, method, clearance_m, vs, tuple(pairs),
-                        None if fcd_dir is None else str(fcd_dir), level, use_sumo=use_sumo)
+                        None if fcd_dir is None else str(fcd_dir), level, use_sumo=use_sumo,
+                        swing=swing)
             k, pairs = k + 1, []
         d = detached(c)
         pairs += [(vi, d) for vi in which]
     if pairs:
         yield Batch(nc.name, k, method, clearance_m, vs, tuple(pairs),
-                    None if fcd_dir is None else str(fcd_dir), level, use_sumo=use_sumo)
+                    None if fcd_dir is None else str(fcd_dir), level, use_sumo=use_sumo,
+                    swing=swing)
 
 
 def run_study(
@@ -206,6 +208,7 @@ def run_study(
     executor: Executor | None = None,
     selection: Selection | None = None,
     use_sumo: bool = True,
+    swing: bool = True,
 ) -> Study:
     """Every vehicle of ``table`` through every curve of every network (of ``selection``).
 
@@ -220,9 +223,8 @@ def run_study(
     use_sumo
         ``False``: the simulate method without replaying the runs in SUMO (the same model,
         envelopes and verdicts, faster).
-    use_sumo
-        ``False``: the simulate method without replaying the runs in SUMO (the same model,
-        envelopes and verdicts, faster).
+    swing
+        ``False``: judge every run on its lane only, no swung paths (simulate method).
     selection
         Only the curves of this :class:`~networks.selection.Selection` (kind, junction,
         box), chosen before any area is built.
@@ -255,7 +257,7 @@ def run_study(
             t0 = time.perf_counter()
             size = max(1, min(BATCH_RUNS, -(-runs // (2 * ex.workers))))
             tasks = batches_of(nc, vehicles, method, clearance_m, fcd_dir, size,
-                               allowed[nc.name], use_sumo)
+                               allowed[nc.name], use_sumo, swing)
             for batch, recs in run_isolated(ex, run_batch, tasks, split_batch, lost_batch,
                                             shared):
                 records += recs

@@ -68,6 +68,26 @@ def counts(frame: pd.DataFrame, by: str) -> dict[str, dict[str, int]]:
     return out
 
 
+def paths(frame: pd.DataFrame) -> dict[str, object]:
+    """How many runs took a swung path (:mod:`networks.sumo.swing`), what those encroach on,
+    and how many runs the search made better than their lane's verdict.
+
+    Examples
+    --------
+    >>> f = pd.DataFrame({"path": ["lane", "swung", "swung"],
+    ...                   "verdict": ["clear", "encroaches", "fails"],
+    ...                   "lane_verdict": ["clear", "fails", "fails"],
+    ...                   "encroaches_on": ["", "opposing lanes", "shoulder"]})
+    >>> paths(f)
+    {'swung': 2, 'better_than_lane': 1, 'swung_encroaches_on': {'opposing lanes': 1, 'shoulder': 1}}
+    """
+    swung = frame[frame.path == "swung"]
+    better = swung.verdict.map(VERDICT_ORDER) > swung.lane_verdict.map(VERDICT_ORDER)
+    on = Counter(x for x in swung.encroaches_on if x)
+    return {"swung": len(swung), "better_than_lane": int(better.sum()),
+            "swung_encroaches_on": dict(sorted(on.items()))}
+
+
 def summary(study: Study, vehicle_tables: list[Path],
             waived: Waived | None = None) -> dict[str, object]:
     """The ``summary.json`` content (with ``waived`` counts when given waivers)."""
@@ -81,6 +101,7 @@ def summary(study: Study, vehicle_tables: list[Path],
         "verdicts": {v: int((frame.verdict == v).sum()) for v in VERDICTS},
         "by_network": counts(frame, "network"),
         "by_vehicle": counts(frame, "vehicle"),
+        "paths": paths(frame),
         "not_permitted": {
             "runs": len(study.not_permitted),
             "by_vehicle": dict(sorted(Counter(v for _, v, _ in study.not_permitted).items())),

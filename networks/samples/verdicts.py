@@ -52,7 +52,8 @@ def table(name: str) -> str:
     net = read_network(SAMPLES_DIR / name / f"{name}.net.xml")
     for c in curves_of(name):
         # the kinematic model on the smoothed centre line, as `clearance report` drives it
-        runs = drive(net, [(v, c) for v in vehicles], options=DriveOptions(use_sumo=False))
+        runs = drive(net, [(v, c) for v in vehicles],
+                     options=DriveOptions(use_sumo=False, swing=False))
         cells = [f"`{c.curve_id}`", f"{c.min_radius_m:.1f}", f"{round(c.turn_angle_deg):+d}"]
         for run in runs:
             if run.result is None:  # without SUMO every run has its model result

@@ -113,6 +113,7 @@ from networks.sumo.runs import (  # noqa: F401 - re-exported
     curve_areas,
     select_curves,
 )
+from networks.sumo.swing import swing_pass
 from vehicles.errors import InputError
 from vehicles.vehicle import Vehicle
 
@@ -264,6 +265,8 @@ def drive(
             d.error = (d.error + "; " if d.error else "") + f"envelope or verdict failed: {exc}"
             log.warning("%s x %s: %s", d.vehicle.name, d.curve.curve_id, d.error)
     stats.evaluate_s += time.perf_counter() - t0
+    if options.swing:  # the best path within the pavement, for the runs not clear
+        swing_pass(out, paths, areas, settings, options, stats)
     return everything
 
 

@@ -16,6 +16,7 @@ from collections.abc import Sequence
 from dataclasses import dataclass, field
 
 from analysis.clearance import Areas, RunResult
+from analysis.path_search import encroaches_on
 from analysis.tracking import TrackingRun
 from networks.curves import Curve
 from vehicles.errors import InputError
@@ -52,6 +53,8 @@ class DriveOptions:
         step, so the swept paths and verdicts do not depend on this.
     max_restarts
         Restarts of SUMO after a failed simulation step, before the queued runs fail too.
+    swing
+        Search a swung path for every run not clear on its lane (:mod:`networks.sumo.swing`).
     """
 
     batch_size: int = 100
@@ -62,6 +65,7 @@ class DriveOptions:
     use_sumo: bool = True
     max_restarts: int = 2
     sumo_step_s: float | None = DEFAULT_SUMO_STEP_S
+    swing: bool = True
 
     def __post_init__(self) -> None:
         if not (isinstance(self.batch_size, int) and self.batch_size >= 1):
@@ -123,6 +127,10 @@ class DriveStats:
         SUMO vehicles placed and read back, summed over the steps.
     sumo_steps
         Simulation steps.
+    swing_s, swing_cpu_s
+        The search of swung paths (:mod:`networks.sumo.swing`), model and verdicts.
+    swing_candidates, swing_judged
+        Swung paths driven, and of those judged (envelope and verdict).
     model_cpu_s, sumo_cpu_s
         The same by the process's CPU time (steadier on a shared machine).
     """
@@ -134,6 +142,10 @@ class DriveStats:
     evaluate_s: float = 0.0
     vehicle_steps: int = 0
     sumo_steps: int = 0
+    swing_s: float = 0.0
+    swing_cpu_s: float = 0.0
+    swing_candidates: int = 0
+    swing_judged: int = 0
 
 
 @dataclass
@@ -153,6 +165,13 @@ class DrivenRun:
         (``nan`` when the run was not driven through SUMO).
     error
         Why SUMO failed this run; empty when it did not.
+    lane_result
+        The result on the lane's centre line (``result`` itself unless a swung path was
+        taken).
+    path
+        ``lane`` or ``swung``: the path ``result`` judges. SUMO replays the lane's.
+    swing_m
+        The swung path's outward offset over the feature (m), 0 on the lane.
     """
 
     vehicle: Vehicle
@@ -162,6 +181,9 @@ class DrivenRun:
     sumo_max_deviation_m: float = math.nan
     error: str = ""
     run: TrackingRun | None = field(default=None, repr=False)
+    lane_result: RunResult | None = field(default=None, repr=False)
+    path: str = "lane"
+    swing_m: float = 0.0
 
     @property
     def verdict(self) -> str:
@@ -169,6 +191,27 @@ class DrivenRun:
         if self.error or self.result is None:
             return "error"
         return self.result.verdict
+
+    @property
+    def lane_verdict(self) -> str:
+        """The verdict on the lane's centre line (``error`` as :attr:`verdict`)."""
+        if self.error or self.result is None:
+            return "error"
+        return (self.lane_result or self.result).verdict
+
+    @property
+    def lane_margin_m(self) -> float:
+        """The margin to the own lanes on the lane's centre line (``nan`` without one)."""
+        r = self.lane_result or self.result
+        return r.margin_m if r is not None and not self.error else math.nan
+
+    @property
+    def encroaches_on(self) -> str:
+        """What the chosen path's envelope encroaches on (:func:`~analysis.path_search.
+        encroaches_on`; ``""`` when clear, cannot-turn or an error)."""
+        if self.error or self.result is None:
+            return ""
+        return encroaches_on(self.result.clearance)
 
     @property
     def reason(self) -> str:

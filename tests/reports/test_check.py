@@ -30,7 +30,7 @@ def test_failing_gate_lists_curve_vehicle_verdict_margin(capsys):
 
 def test_allowed_verdicts_pass(capsys):
     # P on the parking helix: it scrapes the inner wall (fails) - allowing fails passes it
-    args = ["check", "-n", NETS["parking_ramp"], "--design-vehicle", "P"]
+    args = ["check", "-n", NETS["parking_ramp"], "--design-vehicle", "P", "--lane-only"]
     assert main(args) == 1
     capsys.readouterr()
     assert main(args + ["--allow", "fails", "--allow", "encroaches"]) == 0
@@ -49,7 +49,7 @@ def test_malformed_input_exits_2_without_traceback(tmp_path):
 def test_golden_gate_detects_a_regression(tmp_path, capsys):
     golden = tmp_path / "golden.csv"
     args = ["check", "-n", NETS["parking_ramp"], "--design-vehicle", "P",
-            "--design-vehicle", "2008 Chrysler Town & Country"]
+            "--design-vehicle", "2008 Chrysler Town & Country", "--lane-only"]
     # P fails on the helix, but --write-golden exits 0 once it has written the file
     assert main(args + ["--write-golden", str(golden)]) == 0
     assert main(args + ["--expect", str(golden)]) == 0
@@ -139,13 +139,13 @@ def test_new_and_gone_curves_fail_the_gate_unless_allowed(tmp_path, capsys):
 
 def test_waivers_pass_the_gate_and_are_listed(tmp_path, capsys):
     # P clears the turns at the helix's foot and top (judged on the junctions alone) and
-    # fails the helix itself (simulate)
+    # fails the helix itself (simulate, on its lane's centre line)
     w = tmp_path / "w.csv"
     w.write_text("curve_id,vehicle,verdict,reason\n"
                  "turn:H*,P,fails,the helix turns are tight by design\n"
                  "ramp:helix_0->helix_0,*,encroaches,only encroaching is accepted\n"
                  "bend:*,*,fails,matches nothing\n")
-    assert main(RAMP_P + ["--waivers", str(w)]) == 1
+    assert main(RAMP_P + ["--lane-only", "--waivers", str(w)]) == 1
     captured = capsys.readouterr()
     assert ("parking_ramp: ramp:helix_0->helix_0: P: fails (-0.13 m) (worse than "
             f"{w}:3 accepts: encroaches)") in captured.out
@@ -153,7 +153,7 @@ def test_waivers_pass_the_gate_and_are_listed(tmp_path, capsys):
     assert f"{w}:4: waiver matches no run" in captured.err
     w.write_text(w.read_text().replace("*,encroaches,only encroaching is accepted",
                                        "P,fails,the wall is 0.13 m from the lane"))
-    assert main(RAMP_P + ["--waivers", str(w)]) == 0
+    assert main(RAMP_P + ["--lane-only", "--waivers", str(w)]) == 0
     captured = capsys.readouterr()
     assert "3 runs, 1 waived, 0 not allowed" in captured.out
     assert ("waived: parking_ramp: ramp:helix_0->helix_0: P: fails (-0.13 m): the wall is "

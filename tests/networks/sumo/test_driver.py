@@ -8,6 +8,7 @@ import xml.etree.ElementTree as ET
 import numpy as np
 import pytest
 
+from analysis.clearance import VERDICTS
 from networks.curves import extract_curves
 from networks.reader import read_network
 from networks.samples import build as samples
@@ -82,14 +83,25 @@ def driven(nets, table):
 
 @pytest.mark.parametrize("row", DESIGNED, ids=lambda r: f"{r[1]}@{r[2]}->{r[3]}")
 def test_designed_verdicts(driven, row):
+    # the samples' designed verdicts are those of the lane's centre line
     run = driven[row]
     assert run.error == ""
-    assert run.verdict == row[4], run.reason
-    margin = run.result.margin_m
+    assert run.lane_verdict == run.lane_result.verdict == row[4], run.lane_result.clearance.reason
+    margin = run.lane_margin_m
     assert (margin >= 0) == (row[4] == "clear")
     assert margin == pytest.approx(row[5], abs=0.015)
+    lane_reason = run.lane_result.clearance.reason
     if row[4] == "cannot-turn":  # a verdict with its reason, not an error
-        assert "front axle left the centre line" in run.reason or "articulation" in run.reason
+        assert "front axle left the centre line" in lane_reason or "articulation" in lane_reason
+    # the path taken is never worse than the lane's, and says what it was on the lane
+    assert VERDICTS.index(run.verdict) >= VERDICTS.index(run.lane_verdict)
+    if run.path == "swung":
+        assert run.verdict != run.lane_verdict or run.result.clearance.paved_margin_m > (
+            run.lane_result.clearance.paved_margin_m)
+        assert f"on the lane centre line: {row[4]}" in run.reason
+    else:
+        assert run.result.verdict == row[4]
+        assert run.result.margin_m == run.lane_margin_m
 
 
 def test_sumo_positions_agree_with_the_model(driven):

@@ -1,0 +1,525 @@
+"""Swung paths: the lateral offset profiles a driver takes through a turn too tight for the lane.
+
+A driver whose vehicle cannot make a turn on its lane's centre line swings wide: out toward
+the outside of the turn before it, round on a wider radius, and back after it, using the
+rest of its own roadway, then the opposing lanes, then whatever else is paved. This module
+makes those paths, a fixed family per run, as offsets of the lane's (smoothed) centre line.
+
+Candidates
+----------
+Every candidate is the centre line shifted sideways by an offset profile ``d(s)`` (m, left
+positive, toward the outside of the turn, :func:`offset_profile`):
+
+- ``d = 0`` up to the ramp's start, ``L = max(min_ramp_m, ramp_per_m * A)`` before the
+  feature (clipped to the centre line's start), rising as a half cosine to the amplitude
+  ``A`` at the feature's start;
+- ``A`` held over the feature; the whole profile is then multiplied by ``1 - c sin^2``
+  (``c`` the *apex cut*) from the middle of the ramp in to the middle of the ramp out, so
+  that it peaks at the feature's middle: the path cuts back toward the inside at the apex,
+  on a wider radius, as a driver does who swings out and then turns in;
+- back to ``0`` as a half cosine over ``L`` after the feature (clipped to its end).
+
+Where the lead-in (or run-out) is shorter than half a ramp, the ramp ends (or starts) inside
+the feature instead, at most half way through it. The amplitudes are fitted to the run's
+room: ``room * k / steps`` for ``k = 1 .. steps`` (:meth:`SwingSearch.amplitudes_m`), the
+room being how far the centre line can move outward at the feature's start, middle and end
+before the body's side reaches the paved area's edge (:func:`outside_room_m`, at most
+6 m); the family is every amplitude with every cut of :attr:`SwingSearch.apex_cuts`: a
+bounded number of candidates per run (12 by default), in a fixed order (smallest swing
+first), so the search is deterministic. A candidate whose offset
+would fold the line over itself (``1 - kappa d <= 0.2`` anywhere, ``kappa`` the centre
+line's curvature) is left out.
+
+The offset path is the smoothed centre line's points moved along its normals,
+``p + d n``; the profile and the centre line are smooth, so the offset is too (its
+curvature is ``kappa / (1 - kappa d)`` plus the profile's own, :func:`max_curvature_1_m`).
+The same follower drives it (:func:`analysis.tracking.simulate_batch`), within the
+vehicle's lock and steering rate: a candidate the vehicle cannot follow is ``cannot-turn``.
+
+Which candidate
+---------------
+Each followed candidate's envelope is judged against the curve's areas over the feature and
+the candidate's ramps (the whole manoeuvre, :func:`judged_window`), and the best is kept
+(:func:`rank`): the worst area the envelope leaves first (none, then its own lanes but not
+its roadway, then the roadway but not the paved area, then the paved area, then
+``cannot-turn``), then the largest margin to the area it stays in (to the paved area for
+one that leaves it). The lane's own result wins ties: a swung path is taken only when it is
+better by a whole tier, or by more than :data:`BETTER_BY_M` in the same tier.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import numpy as np
+import shapely
+from numpy.typing import NDArray
+from shapely.geometry.base import BaseGeometry
+
+from analysis.clearance import Clearance
+from analysis.polyline import Path, prepare_path
+from vehicles.errors import InputError
+
+FloatArray = NDArray[np.float64]
+
+BETTER_BY_M = 0.05
+"""A swung path in the lane's own tier must beat its margin by more than this (m)."""
+
+MIN_FOLD = 0.2
+"""A candidate is left out where ``1 - kappa d`` (the offset's stretch) falls to this."""
+
+TIERS = ("cannot-turn", "leaves paved", "leaves roadway", "leaves own lanes", "clear")
+"""What a path's envelope leaves, worst first (:func:`tier`)."""
+
+ENCROACHED = ("", "same-direction lanes", "opposing lanes", "shoulder")
+"""What an envelope encroaches on (:func:`encroaches_on`): nothing, then worst last."""
+
+
+@dataclass(frozen=True)
+class SwingSearch:
+    """The bounds of the search (lengths in metres).
+
+    Attributes
+    ----------
+    steps
+        Amplitudes per run: ``room * k / steps`` for ``k = 1 .. steps``, ``room`` the
+        outward room of the run (:func:`outside_room_m`, at most ``max_amplitude_m``).
+    max_amplitude_m, min_amplitude_m
+        The widest swing searched; the narrowest (where the room is smaller, only this).
+    apex_cuts
+        Fractions of the amplitude taken back at the feature's middle (0: held).
+    ramp_per_m, min_ramp_m
+        The ramps in and out are ``max(min_ramp_m, ramp_per_m * A)`` long.
+
+    Examples
+    --------
+    >>> SwingSearch().count, SwingSearch().amplitudes_m(3.0)
+    (12, (0.75, 1.5, 2.25, 3.0))
+    >>> SwingSearch().amplitudes_m(0.05), SwingSearch().amplitudes_m(float("inf"))[-1]
+    ((0.15,), 6.0)
+    >>> SwingSearch(steps=0)
+    Traceback (most recent call last):
+    ...
+    vehicles.errors.InputError: swing search: steps must be >= 1, got 0
+    """
+
+    steps: int = 4
+    max_amplitude_m: float = 6.0
+    min_amplitude_m: float = 0.15
+    apex_cuts: tuple[float, ...] = (0.0, 0.3, 0.6)
+    ramp_per_m: float = 4.0
+    min_ramp_m: float = 6.0
+
+    def __post_init__(self) -> None:
+        if not (isinstance(self.steps, int) and self.steps >= 1):
+            raise InputError(f"swing search: steps must be >= 1, got {self.steps!r}")
+        if not (0 < self.min_amplitude_m <= self.max_amplitude_m
+                and math.isfinite(self.max_amplitude_m)):
+            raise InputError("swing search: amplitudes must be 0 < min <= max, finite")
+        if not self.apex_cuts or not all(0 <= c < 1 for c in self.apex_cuts):
+            raise InputError(f"swing search: apex cuts must be in [0, 1), got {self.apex_cuts}")
+        if not (self.ramp_per_m > 0 and self.min_ramp_m > 0):
+            raise InputError("swing search: ramp lengths must be > 0 m")
+
+    @property
+    def count(self) -> int:
+        """Candidates per run (at most; folding ones are left out)."""
+        return self.steps * len(self.apex_cuts)
+
+    def amplitudes_m(self, room_m: float) -> tuple[float, ...]:
+        """The amplitudes searched for an outward room of ``room_m``, smallest first."""
+        top = min(room_m, self.max_amplitude_m)
+        if not top > self.min_amplitude_m:
+            return (self.min_amplitude_m,)
+        return tuple(round(max(self.min_amplitude_m, top * k / self.steps), 3)
+                     for k in range(1, self.steps + 1))
+
+    def ramp_m(self, amplitude_m: float) -> float:
+        """Length of the ramps in and out for an amplitude (m)."""
+        return max(self.min_ramp_m, self.ramp_per_m * amplitude_m)
+
+
+@dataclass(frozen=True)
+class Candidate:
+    """One swung path.
+
+    Attributes
+    ----------
+    amplitude_m, apex_cut
+        The profile's amplitude (outward, m) and apex cut fraction.
+    offset_m
+        Signed offset ``d`` at each point of the centre line the path keeps (left
+        positive; all of it unless cropped, :func:`candidates`).
+    path
+        The offset path, ready for the follower.
+    window_m
+        ``(start, end)``: the ramps and the feature along ``path`` (m), the part judged.
+    station_map
+        The offset path's station at each of those points.
+    """
+
+    amplitude_m: float
+    apex_cut: float
+    offset_m: FloatArray
+    path: Path
+    window_m: tuple[float, float]
+    station_map: FloatArray
+
+
+def _half_cosine(t: FloatArray) -> FloatArray:
+    """0 at ``t <= 0``, 1 at ``t >= 1``, a half cosine between."""
+    return 0.5 - 0.5 * np.cos(math.pi * np.clip(t, 0.0, 1.0))
+
+
+def ramp_bounds(length_m: float, feature_m: tuple[float, float], ramp_m: float
+                ) -> tuple[float, float, float, float]:
+    """Where the ramps in and out begin and end along a centre line of ``length_m``.
+
+    Returns ``(a, b, c, e)``: up from ``a`` to ``b``, down from ``c`` to ``e``.
+
+    Examples
+    --------
+    Room for whole ramps; a lead-in too short for one (the ramp ends inside the feature):
+
+    >>> ramp_bounds(60.0, (25.0, 35.0), 8.0)
+    (17.0, 25.0, 35.0, 43.0)
+    >>> ramp_bounds(60.0, (2.0, 12.0), 8.0)
+    (0.0, 4.0, 12.0, 20.0)
+
+    A feature that fills the line: the ramps meet in its middle.
+
+    >>> ramp_bounds(10.0, (0.0, 10.0), 8.0)
+    (0.0, 4.0, 6.0, 10.0)
+    """
+    cs, ce = max(0.0, feature_m[0]), min(length_m, feature_m[1])
+    mid = 0.5 * (cs + ce)
+    a = max(0.0, cs - ramp_m)
+    b = cs if cs - a >= 0.5 * ramp_m else min(a + 0.5 * ramp_m, mid)
+    e = min(length_m, ce + ramp_m)
+    c = ce if e - ce >= 0.5 * ramp_m else max(e - 0.5 * ramp_m, mid)
+    return a, b, c, e
+
+
+def offset_profile(station_m: FloatArray, feature_m: tuple[float, float], amplitude_m: float,
+                   ramp_m: float, apex_cut: float = 0.0) -> FloatArray:
+    """The offset ``d(s) >= 0`` of a swung path (toward the outside; the caller signs it).
+
+    Examples
+    --------
+    Zero before the ramp and after it, the amplitude over the feature:
+
+    >>> s = np.arange(0.0, 61.0, 1.0)
+    >>> d = offset_profile(s, (25.0, 35.0), 2.0, 8.0)
+    >>> [round(float(d[k]), 9) for k in (10, 21, 30, 50)]
+    [0.0, 1.0, 2.0, 0.0]
+
+    A cut of one half brings the middle of the feature back to half the amplitude:
+
+    >>> float(offset_profile(s, (25.0, 35.0), 2.0, 8.0, apex_cut=0.5)[30])
+    1.0
+
+    A zero amplitude is the centre line itself:
+
+    >>> bool(np.all(offset_profile(s, (25.0, 35.0), 0.0, 8.0) == 0.0))
+    True
+    """
+    s = np.asarray(station_m, dtype=float)
+    a, b, c, e = ramp_bounds(float(s[-1]), feature_m, ramp_m)
+    up = _half_cosine((s - a) / (b - a)) if b > a else (s >= a).astype(float)
+    down = 1.0 - (_half_cosine((s - c) / (e - c)) if e > c else (s > c).astype(float))
+    d = amplitude_m * np.minimum(up, down)
+    lo, hi = 0.5 * (a + b), 0.5 * (c + e)  # the cut spans the feature and half the ramps
+    if apex_cut > 0 and hi > lo:
+        inside = (s > lo) & (s < hi)
+        d[inside] *= 1.0 - apex_cut * np.sin(math.pi * (s[inside] - lo) / (hi - lo)) ** 2
+    return d
+
+
+def offset_path(path: Path, offset_m: FloatArray, name: str | None = None) -> Path:
+    """The path moved sideways by ``offset_m`` at each of its points (left positive).
+
+    Examples
+    --------
+    A straight line moved by 1.5 m is the parallel line 1.5 m to its left:
+
+    >>> p = prepare_path([(0.0, 0.0), (10.0, 0.0)], spacing_m=0.5)
+    >>> q = offset_path(p, np.full(len(p.xy), 1.5))
+    >>> bool(np.allclose(q.xy[:, 1], 1.5)), q.length_m
+    (True, 10.0)
+
+    A zero offset is the path itself:
+
+    >>> bool(np.allclose(offset_path(p, np.zeros(len(p.xy))).xy, p.xy))
+    True
+    """
+    d = np.asarray(offset_m, dtype=float)
+    if d.shape != (len(path.xy),):
+        raise InputError(f"{path.name}: one offset per point is needed, got {d.shape}")
+    if not d.any():
+        return path if name is None else dataclasses.replace(path, name=name)
+    xy = _moved(path, d)
+    pts = xy if path.z is None else np.column_stack([xy, path.z])
+    return prepare_path(pts, path.spacing_m, name=name or path.name)
+
+
+def _moved(path: Path, d: FloatArray) -> FloatArray:
+    """The path's points moved by ``d`` along their left normals."""
+    h = path.heading_rad
+    return path.xy + d[:, None] * np.stack([-np.sin(h), np.cos(h)], axis=1)
+
+
+def max_curvature_1_m(path: Path) -> float:
+    """Largest absolute curvature of a path (1/m), as the follower sees it.
+
+    Examples
+    --------
+    >>> a = np.radians(np.arange(0, 91, 2))
+    >>> round(max_curvature_1_m(prepare_path(np.c_[8 * np.cos(a), 8 * np.sin(a)])), 3)
+    0.125
+    """
+    return float(np.max(np.abs(path.curvature_1_m))) if len(path.xy) else 0.0
+
+
+def outside_sign(turn_angle_deg: float) -> float:
+    """The sign of an offset toward the outside of a turn (left positive offsets).
+
+    Examples
+    --------
+    >>> outside_sign(90.0), outside_sign(-35.0), outside_sign(0.0)
+    (-1.0, 1.0, 0.0)
+    """
+    return 0.0 if turn_angle_deg == 0 else math.copysign(1.0, -turn_angle_deg)
+
+
+def outside_room_m(path: Path, feature_m: tuple[float, float], side: float,
+                   paved: BaseGeometry, half_width_m: float, reach_m: float = 12.0) -> float:
+    """How far the centre line may move outward and keep the body's side on the pavement.
+
+    The smallest, over the feature's start, middle and end, of the distance along the
+    outward normal from the centre line to the paved area's edge, less ``half_width_m``
+    (0 where a point is off the pavement; ``reach_m`` where the pavement goes on further).
+
+    Examples
+    --------
+    A lane along y = 0 paved from y = -1.5 to y = 5.1; a 2 m wide car may move left 4.1 m:
+
+    >>> p = prepare_path([(0.0, 0.0), (40.0, 0.0)])
+    >>> paved = shapely.box(-5.0, -1.5, 45.0, 5.1)
+    >>> round(outside_room_m(p, (15.0, 25.0), 1.0, paved, 1.0), 6)
+    4.1
+    >>> round(outside_room_m(p, (15.0, 25.0), -1.0, paved, 1.0), 6)
+    0.5
+    """
+    s = np.array([feature_m[0], 0.5 * (feature_m[0] + feature_m[1]), feature_m[1]])
+    s = np.clip(s, 0.0, path.length_m)
+    xy = path.point_at(s)
+    h = path.heading_at(s)
+    n = side * np.stack([-np.sin(h), np.cos(h)], axis=1)
+    rays = shapely.linestrings(np.stack([xy, xy + reach_m * n], axis=1))
+    start = shapely.points(xy)
+    edge = shapely.boundary(paved)
+    room = []
+    for ray, p0, inside in zip(rays, start, shapely.covers(paved, start), strict=True):
+        if not inside:
+            room.append(0.0)
+            continue
+        hit = shapely.intersection(ray, edge)
+        room.append(float(shapely.distance(p0, hit)) if not hit.is_empty else reach_m)
+    return max(0.0, min(room) - half_width_m)
+
+
+def candidates(path: Path, feature_m: tuple[float, float], turn_angle_deg: float,
+               search: SwingSearch | None = None, room_m: float = math.inf,
+               reach_m: float | None = None) -> list[Candidate]:
+    """The swung paths of one run, in the search's order (see the module docstring).
+
+    With ``reach_m`` each candidate keeps only the centre line from ``reach_m`` before its
+    ramp in to ``reach_m`` after its ramp out (a vehicle's length and a little more: all a
+    judged sample's body can cover), so that it is driven no further than it is judged.
+
+    Examples
+    --------
+    A right-hand quarter circle of radius 4 m between two 20 m straights: 12 candidates,
+    all offset to the left (the outside), each with the lane's ends:
+
+    >>> a = np.radians(np.linspace(90, 0, 31))
+    >>> arc = np.c_[4 * np.cos(a), 20 + 4 * np.sin(a)]
+    >>> p = prepare_path(np.vstack([[(-20.0, 24.0)], arc, [(4.0, 0.0)]]), smooth=True)
+    >>> cs = candidates(p, (20.0, 26.3), -90.0)
+    >>> len(cs), bool(all(c.offset_m.max() > 0 for c in cs))
+    (12, True)
+    >>> bool(np.allclose(cs[0].path.xy[[0, -1]], p.xy[[0, -1]], atol=1e-6))
+    True
+
+    A feature that does not turn has no outside and no candidates:
+
+    >>> candidates(p, (20.0, 26.3), 0.0)
+    []
+
+    Cropped 8 m beyond the ramps, the smallest swing (a 6 m ramp) starts 14 m before the
+    feature:
+
+    >>> c = candidates(p, (20.0, 26.3), -90.0, reach_m=8.0)[0]
+    >>> round(float(c.window_m[0]), 6), bool(np.allclose(c.path.xy[0], p.point_at(6.0)))
+    (8.0, True)
+    """
+    search = search or SwingSearch()
+    side = outside_sign(turn_angle_deg)
+    if side == 0.0:
+        return []
+    s = path.station_m
+    out = []
+    for amp in search.amplitudes_m(room_m):
+        ramp = search.ramp_m(amp)
+        a, _, _, e = ramp_bounds(path.length_m, feature_m, ramp)
+        lane, keep = path, slice(None)
+        if reach_m is not None:
+            i0 = int(np.searchsorted(s, a - reach_m, side="right")) - 1
+            i1 = int(np.searchsorted(s, e + reach_m, side="left")) + 1
+            keep = slice(max(i0, 0), min(i1, len(s)))
+            lane = _sub_path(path, keep)
+        for cut in search.apex_cuts:
+            d = side * offset_profile(s, feature_m, amp, ramp, cut)[keep]
+            if np.min(1.0 - lane.curvature_1_m * d) <= MIN_FOLD:
+                continue
+            p = offset_path(lane, d, name=f"{path.name} (swung {amp:g} m, cut {cut:g})")
+            seg = np.hypot(*np.diff(_moved(lane, d), axis=0).T)
+            smap = np.concatenate([[0.0], np.cumsum(seg)])
+            ls = lane.station_m
+            window = (float(np.interp(min(a, feature_m[0]) - s[keep][0], ls, smap)),
+                      float(np.interp(max(e, feature_m[1]) - s[keep][0], ls, smap)))
+            out.append(Candidate(float(amp), float(cut), d, p, window, smap))
+    return out
+
+
+def _sub_path(path: Path, keep: slice) -> Path:
+    """The part ``keep`` of a path, its stations from 0."""
+    st = path.station_m[keep] - path.station_m[keep][0]
+    return Path(path.name, path.xy[keep], None if path.z is None else path.z[keep], st,
+                path.heading_rad[keep], path.curvature_1_m[keep], path.spacing_m,
+                float(st[-1]))
+
+
+def tier(clearance: Clearance | None) -> int:
+    """Index in :data:`TIERS` of what a clearance's envelope leaves (higher is better).
+
+    Examples
+    --------
+    >>> c = Clearance("encroaches", -0.4, 0.6, -0.1, 0.0, "")
+    >>> TIERS[tier(c)]
+    'leaves roadway'
+    >>> TIERS[tier(Clearance("encroaches", -0.4, 0.6, 0.2, 0.0, ""))]
+    'leaves own lanes'
+    >>> TIERS[tier(None)]
+    'cannot-turn'
+    """
+    if clearance is None or clearance.verdict == "cannot-turn":
+        return 0
+    if clearance.verdict == "fails":
+        return 1
+    if clearance.verdict == "clear":
+        return 4
+    road = clearance.roadway_margin_m
+    return 3 if road is not None and road >= 0 else 2
+
+
+def decisive_margin(clearance: Clearance | None) -> float:
+    """The margin that orders paths of one tier: to the area the envelope stays in.
+
+    Examples
+    --------
+    >>> decisive_margin(Clearance("encroaches", -0.4, 0.6, -0.1, 0.0, ""))
+    0.6
+    >>> decisive_margin(Clearance("fails", -2.0, -0.3, -1.0, 0.0, ""))
+    -0.3
+    """
+    t = tier(clearance)
+    if t == 0:
+        return -math.inf
+    if t == 4:
+        return clearance.margin_m
+    if t == 3:
+        return float(clearance.roadway_margin_m)
+    return clearance.paved_margin_m
+
+
+def rank(clearances: Sequence[Clearance | None]) -> int:
+    """Index of the best of ``clearances`` (the first is the lane's; it wins ties).
+
+    Examples
+    --------
+    >>> lane = Clearance("cannot-turn", -1.0, -0.5, None, 0.0, "lock")
+    >>> wide = Clearance("encroaches", -1.2, 0.3, -0.8, 0.0, "")
+    >>> wider = Clearance("encroaches", -2.0, 0.5, -1.5, 0.0, "")
+    >>> rank([lane, wide, wider]), rank([wide, wider]), rank([wider, None])
+    (2, 1, 0)
+    >>> rank([wide, Clearance("encroaches", -1.2, 0.33, -0.8, 0.0, "")])
+    0
+    """
+    best, key = 0, (tier(clearances[0]), decisive_margin(clearances[0]))
+    for i, c in enumerate(clearances[1:], start=1):
+        k = (tier(c), decisive_margin(c))
+        if k[0] > key[0] or (k[0] == key[0] and k[1] > key[1] + BETTER_BY_M):
+            best, key = i, k
+    return best
+
+
+def encroaches_on(clearance: Clearance | None) -> str:
+    """What the envelope encroaches on, worst only (:data:`ENCROACHED`; ``""`` when clear).
+
+    The roadway (same direction) tells the lanes of the own direction from the rest of the
+    paved area, taken for the opposing lanes; beyond the paved area is the shoulder.
+
+    Examples
+    --------
+    >>> encroaches_on(Clearance("encroaches", -0.4, 0.6, 0.2, 0.0, ""))
+    'same-direction lanes'
+    >>> encroaches_on(Clearance("encroaches", -0.4, 0.6, -0.1, 0.0, ""))
+    'opposing lanes'
+    >>> encroaches_on(Clearance("fails", -0.4, -0.2, -0.1, 0.0, ""))
+    'shoulder'
+    >>> encroaches_on(Clearance("clear", 0.3, 0.6, 0.5, 0.0, ""))
+    ''
+    """
+    if clearance is None or clearance.verdict in ("clear", "cannot-turn"):
+        return ""
+    if clearance.verdict == "fails":
+        return "shoulder"
+    road = clearance.roadway_margin_m
+    return "same-direction lanes" if road is not None and road >= 0 else "opposing lanes"
+
+
+def swing_reason(amplitude_m: float, apex_cut: float, clearance: Clearance) -> str:
+    """The verdict of a swung path in words.
+
+    Examples
+    --------
+    >>> print(swing_reason(2.25, 0.0, Clearance("encroaches", -2.0, 0.5, -1.4, 0.0, "")))
+    ... # doctest: +NORMALIZE_WHITESPACE
+    swings 2.25 m out from the lane centre line and 1.40 m into the opposing lanes,
+    stays paved (0.50 m to spare)
+    >>> print(swing_reason(1.5, 0.5, Clearance("encroaches", -1.1, 0.5, 0.4, 0.0, "")))
+    ... # doctest: +NORMALIZE_WHITESPACE
+    swings 1.50 m out (50% of it taken back at the apex) and 1.10 m into the
+    same-direction lanes, stays in its roadway (0.40 m to spare)
+    >>> print(swing_reason(5.5, 0.0, Clearance("fails", -3.0, -0.62, -2.0, 0.0, "")))
+    swings 5.50 m out from the lane centre line and still leaves the paved area by 0.62 m
+    """
+    how = f"swings {amplitude_m:.2f} m out"
+    how += (f" ({apex_cut:.0%} of it taken back at the apex)" if apex_cut > 0 else
+            " from the lane centre line")
+    c = clearance
+    if c.verdict == "clear":
+        return f"{how} and stays {c.margin_m:.2f} m inside its own lanes"
+    if c.verdict == "fails":
+        return f"{how} and still leaves the paved area by {-c.paved_margin_m:.2f} m"
+    on = encroaches_on(c)
+    if on == "same-direction lanes":
+        return (f"{how} and {-c.margin_m:.2f} m into the same-direction lanes, stays in its "
+                f"roadway ({c.roadway_margin_m:.2f} m to spare)")
+    into = -c.roadway_margin_m if c.roadway_margin_m is not None else -c.margin_m
+    return (f"{how} and {into:.2f} m into the opposing lanes, stays paved "
+            f"({c.paved_margin_m:.2f} m to spare)")

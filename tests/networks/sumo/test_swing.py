@@ -1,0 +1,71 @@
+"""Swung paths on designed corners: a driver swings wide where the lane is too tight."""
+
+from __future__ import annotations
+
+import pytest
+
+from networks.curves import extract_curves
+from networks.reader import read_network
+from networks.sumo.driver import DriveOptions, drive
+from networks.sumo.tools import netconvert_plain
+from tests.networks.corners import corner
+from vehicles.table import bundled_table, load_tables
+
+
+@pytest.fixture(scope="module")
+def table():
+    return load_tables([bundled_table("aashto_green_book")], ["P", "CITY-BUS"])
+
+
+def _turn(tmp_path, netconvert, name, radius_m, fwd, opp, width_m, lane=0):
+    nodes, edges, cons = corner(radius_m, fwd, opp, width_m)
+    path = netconvert_plain(tmp_path, name, nodes=f"<nodes>{nodes}</nodes>",
+                            edges=f"<edges>{edges}</edges>",
+                            connections=f"<connections>{cons}</connections>",
+                            options=["--no-turnarounds"])
+    net = read_network(path)
+    want = f"turn:J:AJ_{lane}->JB_{lane}"
+    curves = [c for c in extract_curves(net, ["turn"]) if c.curve_id == want]
+    assert len(curves) == 1
+    return net, curves[0]
+
+
+def _drive(net, vehicle, curve, swing=True):
+    return drive(net, [(vehicle, curve)], options=DriveOptions(use_sumo=False,
+                                                               swing=swing))[0]
+
+
+def test_car_swings_into_the_opposing_lane_at_a_3m_corner(tmp_path, netconvert, table):
+    net, c = _turn(tmp_path, netconvert, "two_way", 3.0, 1, 1, 3.2)
+    r = _drive(net, table.vehicle("P"), c)
+    assert r.lane_verdict == "fails"  # on its lane it cuts the 3 m curb
+    assert r.lane_margin_m < -0.2
+    assert (r.verdict, r.path, r.encroaches_on) == ("encroaches", "swung", "opposing lanes")
+    assert r.result.clearance.paved_margin_m >= 0
+    assert r.result.clearance.roadway_margin_m < 0
+    assert "into the opposing lanes" in r.reason and "on the lane centre line: fails" in r.reason
+    # without the search the lane's result stands, the same as lane_verdict
+    lane_only = _drive(net, table.vehicle("P"), c, swing=False)
+    assert (lane_only.verdict, lane_only.path) == (r.lane_verdict, "lane")
+    assert lane_only.result.margin_m == pytest.approx(r.lane_margin_m)
+
+
+def test_car_fails_where_the_lane_is_all_the_pavement(tmp_path, netconvert, table):
+    net, c = _turn(tmp_path, netconvert, "one_lane", 3.0, 1, 0, 3.2)
+    r = _drive(net, table.vehicle("P"), c)
+    assert r.verdict == "fails"
+    assert r.encroaches_on == "shoulder"
+    # the best path found leaves the pavement by no more than the lane path
+    assert r.result.clearance.paved_margin_m >= r.lane_result.clearance.paved_margin_m
+    assert "paved area by" in r.reason
+
+
+def test_bus_swings_into_the_second_lane_and_clears_the_curb(tmp_path, netconvert, table):
+    net, c = _turn(tmp_path, netconvert, "bus", 6.0, 2, 0, 3.5)  # 3.5 m bus lanes
+    r = _drive(net, table.vehicle("CITY-BUS"), c)
+    assert r.lane_verdict == "fails"  # the lane path runs over the 6 m curb
+    assert (r.verdict, r.path, r.encroaches_on) == ("encroaches", "swung",
+                                                    "same-direction lanes")
+    assert r.result.clearance.paved_margin_m >= 0  # clears the curb
+    assert r.result.clearance.roadway_margin_m >= 0  # inside its own direction's lanes
+    assert r.swing_m > 0
