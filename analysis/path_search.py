@@ -63,6 +63,11 @@ from analysis.clearance import Clearance
 from analysis.polyline import Path, prepare_path
 from vehicles.errors import InputError
 
+__all__ = ["BETTER_BY_M", "Candidate", "ENCROACHED", "MIN_FOLD", "SwingSearch", "TIERS",
+           "candidates", "decisive_margin", "encroaches_on", "max_curvature_1_m", "offset_path",
+           "offset_profile", "outside_room_m", "outside_sign", "ramp_bounds", "rank",
+           "swing_reason", "tier"]
+
 FloatArray = NDArray[np.float64]
 
 BETTER_BY_M = 0.05
@@ -235,7 +240,7 @@ def offset_profile(station_m: FloatArray, feature_m: tuple[float, float], amplit
     if apex_cut > 0 and hi > lo:
         inside = (s > lo) & (s < hi)
         d[inside] *= 1.0 - apex_cut * np.sin(math.pi * (s[inside] - lo) / (hi - lo)) ** 2
-    return d
+    return np.asarray(d, dtype=np.float64)
 
 
 def offset_path(path: Path, offset_m: FloatArray, name: str | None = None) -> Path:
@@ -268,7 +273,8 @@ def offset_path(path: Path, offset_m: FloatArray, name: str | None = None) -> Pa
 def _moved(path: Path, d: FloatArray) -> FloatArray:
     """The path's points moved by ``d`` along their left normals."""
     h = path.heading_rad
-    return path.xy + d[:, None] * np.stack([-np.sin(h), np.cos(h)], axis=1)
+    return np.asarray(path.xy + d[:, None] * np.stack([-np.sin(h), np.cos(h)], axis=1),
+                      dtype=np.float64)
 
 
 def max_curvature_1_m(path: Path) -> float:
@@ -322,7 +328,9 @@ def outside_room_m(path: Path, feature_m: tuple[float, float], side: float,
     start = shapely.points(xy)
     edge = shapely.boundary(paved)
     room = []
-    for ray, p0, inside in zip(rays, start, shapely.covers(paved, start), strict=True):
+    covered = np.asarray(shapely.covers(paved, start), dtype=bool)
+    for ray, p0, inside in zip(np.asarray(rays, dtype=object), np.asarray(start, dtype=object),
+                               covered, strict=True):
         if not inside:
             room.append(0.0)
             continue
@@ -437,12 +445,12 @@ def decisive_margin(clearance: Clearance | None) -> float:
     -0.3
     """
     t = tier(clearance)
-    if t == 0:
+    if t == 0 or clearance is None:
         return -math.inf
     if t == 4:
         return clearance.margin_m
     if t == 3:
-        return float(clearance.roadway_margin_m)
+        return float(clearance.roadway_margin_m)  # type: ignore[arg-type]  # tier 3 has one
     return clearance.paved_margin_m
 
 

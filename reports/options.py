@@ -7,7 +7,8 @@ import argparse
 from networks.curves import KINDS
 from networks.selection import Selection, parse_bbox
 
-__all__ = ["add_clearance_option", "add_executor_options", "add_net_option", "add_output_option",
+__all__ = ["add_clearance_option", "add_executor_options", "add_lane_only_option",
+           "add_net_option", "add_output_option",
            "add_selection_options", "add_table_option", "add_units_option", "add_vehicle_option",
            "add_waivers_option", "selection_of"]
 

@@ -32,7 +32,8 @@ import time
 
 import shapely
 
-from analysis.clearance import Areas, RunResult, evaluate, feature_mask, feature_reason
+from analysis.clearance import Areas, RunResult, evaluate
+from analysis.feature import feature_mask, feature_reason
 from analysis.path_search import (
     Candidate,
     SwingSearch,
@@ -46,6 +47,8 @@ from analysis.polyline import Path
 from analysis.tracking import TrackingRun, TrackingSettings, simulate_batch
 from networks.sumo.runs import DrivenRun, DriveOptions, DriveStats
 from vehicles.errors import InputError
+
+__all__ = ["needs_swing", "swing_pass"]
 
 log = logging.getLogger(__name__)
 
@@ -103,7 +106,8 @@ def swing_pass(
     drive_all(todo)
     # a run that cannot turn within the pavement's room: the widest swings, beyond it
     wider = [x for d in out if needs_swing(d) and id(d) not in driven
-             and d.result.verdict == "cannot-turn" for x in family(d, math.inf)]
+             and d.result is not None and d.result.verdict == "cannot-turn"
+             for x in family(d, math.inf)]
     drive_all(wider)
     todo += wider
     judged: dict[int, list[tuple[Candidate, RunResult | None]]] = {}
@@ -117,6 +121,7 @@ def swing_pass(
             continue
         tried = judged[id(d)]
         lane = d.result
+        assert lane is not None  # needs_swing: only runs with a result
         best = rank([lane.clearance] + [r.clearance if r is not None else None
                                         for _, r in tried])
         if best == 0:
@@ -128,6 +133,7 @@ def swing_pass(
                     "within its lock and steering rate"))
             continue
         cand, res = tried[best - 1]
+        assert res is not None  # rank never picks a candidate that was not judged
         why = swing_reason(cand.amplitude_m, cand.apex_cut, res.clearance)
         why += f" (on the lane centre line: {lane.verdict}"
         if lane.verdict != "cannot-turn":
