@@ -89,7 +89,8 @@ def _one(net: Path, vehicles: list[str], workers: int | None, extra: list[str]) 
                     bad += c if verdict in ("fails", "cannot-turn") else 0
             share = 100.0 * bad / total if total else 0.0
             cells.append("/".join(str(by[k]) for k in SHORT) + f" ({share:.1f} %)")
-        junctions = summary.get("networks", [{}])[0].get("junctions", "")
+        nets_in = summary.get("inputs", {}).get("networks", [{}])
+        junctions = nets_in[0].get("junctions", "") if nets_in else ""
         kind_text = ", ".join(f"{k} {c}" for k, c in sorted(kinds.items()))
         print(f"| {name} | {size:.1f} | {junctions} | {kind_text} | {m.wall_s:.0f} | "
               f"{m.peak_bytes / 1e6:.0f} | {n / m.wall_s:.0f} | " + " | ".join(cells) + " |",

@@ -162,5 +162,6 @@ def test_real_network_judged_in_the_feature_and_mostly_drivable(bologna_p):
             assert d.curve.core_start_m - v.front_overhang_m - 0.5 <= s, d.curve.curve_id
             assert s <= d.curve.core_end_m + v.overall_length_m + 0.5, d.curve.curve_id
     bad = sum(d.verdict in ("fails", "cannot-turn") for d in judged)
-    # 45 % of every curve before this issue; 23.6 % of the permitted ones now
-    assert bad / len(judged) < 0.25
+    # 45 % of every curve before issue 13; 23.6 % of the permitted ones on the lane centre
+    # line, 9.9 % with the swung paths (issue 13 asks for under 15 %)
+    assert bad / len(judged) < 0.15
