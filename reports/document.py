@@ -335,7 +335,7 @@ a{color:inherit;text-decoration:none}
 #: with the curve names, so that each fits a screen and a printed page.
 MATRIX_VEHICLES = 12
 #: Figures in report.html: at most this wide (pixels) and quantised to this many colours.
-HTML_IMAGE_WIDTH_PX = 640
+HTML_IMAGE_WIDTH_PX = 600
 HTML_IMAGE_COLOURS = 24
 
 
