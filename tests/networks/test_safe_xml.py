@@ -6,7 +6,6 @@ import gzip
 import os
 import subprocess
 import sys
-import threading
 from pathlib import Path
 
 import pytest
@@ -23,31 +22,13 @@ from networks.safe_xml import (
     scan_prolog,
 )
 from networks.samples.sources import SAMPLES_DIR
+from tests.timeouts import within
 from vehicles.errors import InputError
 
 REPO = Path(__file__).resolve().parents[2]
 INTERSECTION = SAMPLES_DIR / "intersection" / "intersection.net.xml"
 
 
-def within(seconds: float, fn, *args):
-    """``fn(*args)`` in a daemon thread: its result or exception, or a failure if it has
-    not returned after ``seconds`` (a blocked open cannot hang the test run)."""
-    box: dict[str, object] = {}
-
-    def target() -> None:
-        try:
-            box["value"] = fn(*args)
-        except BaseException as exc:  # noqa: BLE001 - handed to the caller
-            box["error"] = exc
-
-    t = threading.Thread(target=target, daemon=True)
-    t.start()
-    t.join(seconds)
-    if t.is_alive():
-        pytest.fail(f"{fn.__name__} did not return within {seconds} s")
-    if "error" in box:
-        raise box["error"]  # type: ignore[misc]
-    return box["value"]
 
 
 def with_doctype(tmp_path: Path, system_id: str, name: str = "dt.net.xml") -> Path:

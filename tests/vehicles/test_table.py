@@ -5,6 +5,7 @@ from pathlib import Path
 
 import pytest
 
+from tests.timeouts import within
 from vehicles.errors import InputError, TableError
 from vehicles.schema import ALL_COLUMNS
 from vehicles.table import bundled_table, bundled_table_paths, load_tables
@@ -205,28 +206,6 @@ def test_rack_pinion_row_with_linkage_loads(tmp_path):
 ROW = "A,car,m,4.5,1.8,2.7,0.9,test,35\n"
 
 
-def _within(seconds, fn, *args):
-    """``fn(*args)`` in a daemon thread, failing the test if it does not return in time."""
-    import threading
-
-    box = {}
-
-    def target():
-        try:
-            box["value"] = fn(*args)
-        except BaseException as exc:  # noqa: BLE001 - handed to the caller
-            box["error"] = exc
-
-    t = threading.Thread(target=target, daemon=True)
-    t.start()
-    t.join(seconds)
-    if t.is_alive():
-        pytest.fail(f"{fn.__name__} did not return within {seconds} s")
-    if "error" in box:
-        raise box["error"]
-    return box["value"]
-
-
 @pytest.mark.parametrize("kind", ["fifo", "device", "directory", "symlink-loop",
                                   "under-a-file"])
 def test_only_regular_files_are_read_as_tables(tmp_path, kind):
@@ -251,7 +230,7 @@ def test_only_regular_files_are_read_as_tables(tmp_path, kind):
         p = tmp_path / "f" / "t.csv"
         expected = "cannot be read (Not a directory)"
     with pytest.raises(InputError) as info:
-        _within(10, load_tables, [p])
+        within(10, load_tables, [p])
     assert str(info.value) == f"{p}: {expected}"
 
 
