@@ -105,7 +105,7 @@ def plot_profile(curve: Curve, vehicle: Vehicle, record: RunRecord, stem: Path,
     pick = (s >= lo) & (s <= hi)
     gs = np.r_[lo, s[pick], hi]
     gz = np.interp(gs, s, z)
-    low.fill_between((gs - x0) / k, gz / k, (gz.min() - 0.6) / k, color="#bbb", lw=0)
+    low.fill_between((gs - x0) / k, gz / k, (gz.min() - 1.0) / k, color="#bbb", lw=0)
     low.plot((gs - x0) / k, gz / k, color="#333", lw=1.2, label="ground (centre line)")
     low.add_patch(Polygon(np.c_[(poly[:, 0] - x0) / k, poly[:, 1] / k], closed=True,
                           fc=colour, alpha=0.18, ec=colour, lw=1.0))
@@ -113,7 +113,8 @@ def plot_profile(curve: Curve, vehicle: Vehicle, record: RunRecord, stem: Path,
              label="underside checked")
     wheel = min(max(0.11 * vehicle.wheelbase_m, 0.30), 0.55)
     for c in centres:
-        low.add_patch(Circle(((c[0] - x0) / k, c[1] / k), wheel / k, fc="#222", ec="#222"))
+        low.add_patch(Circle(((c[0] - x0) / k, c[1] / k), wheel / k, fc="#222", ec="#222",
+                             zorder=3))
     if math.isfinite(res.station_m):
         zs = float(np.interp(res.station_m, s, z))
         low.plot([(res.station_m - x0) / k], [zs / k], "o", ms=7, mfc="none", mec=colour,
@@ -121,12 +122,12 @@ def plot_profile(curve: Curve, vehicle: Vehicle, record: RunRecord, stem: Path,
         depth = abs(res.margin_m) / k
         text = (f"{res.part}: {depth:.3f} {units} into the ground" if scrapes
                 else f"{res.part}: {depth:.3f} {units} to spare")
-        low.annotate(text, ((res.station_m - x0) / k, zs / k), xytext=(0, -28),
+        low.annotate(text, ((res.station_m - x0) / k, zs / k), xytext=(0, -22),
                      textcoords="offset points", ha="center", color=colour, fontsize=8,
                      arrowprops={"arrowstyle": "-", "color": colour})
     low.set_aspect("equal")
     low.set_xlim((lo - x0) / k, (hi - x0) / k)
-    low.set_ylim((gz.min() - 0.6) / k, (gz.max() + (vehicle.height_m or DEFAULT_HEIGHT_M)
+    low.set_ylim((gz.min() - 1.0) / k, (gz.max() + (vehicle.height_m or DEFAULT_HEIGHT_M)
                                         + 0.6) / k)
     low.set_xlabel(f"station from the feature's start [{units}] (true scale)")
     low.set_ylabel(f"height [{units}]")
