@@ -171,7 +171,8 @@ class VerticalResult:
     rear_axle_m
         The rear contact's station at that placement.
     part
-        One of :data:`PARTS`, or ``""`` where the profile is level (nothing to find).
+        One of :data:`PARTS`, or ``""`` where nothing comes nearer than on level ground
+        (the clearance; ``station_m`` and ``rear_axle_m`` are then NaN).
     part_margins_m
         The smallest gap of each part, by :data:`PARTS` (the part's own clearance where the
         ground never comes near it).
@@ -333,6 +334,8 @@ def body_clearance(s_m: np.ndarray, z_m: np.ndarray, body: Body,
     part_min = {p: (v if math.isfinite(v) else body.clearance_m) for p, v in part_min.items()}
     flat = int(np.argmin(gaps))
     row, col = divmod(flat, gaps.shape[1])
+    if gaps[row, col] >= body.clearance_m - 1e-9:  # nothing nearer than on level ground
+        return VerticalResult(body.clearance_m, math.nan, math.nan, "", part_min)
     return VerticalResult(float(gaps[row, col]), float(stations[row, col]), float(rears[row]),
                           PARTS[int(parts[row, col])], part_min)
 

@@ -132,7 +132,11 @@ def plot_profile(curve: Curve, vehicle: Vehicle, record: RunRecord, stem: Path,
     low.set_xlabel(f"station from the feature's start [{units}] (true scale)")
     low.set_ylabel(f"height [{units}]")
     words = vertical_words(record, units) or "vertical clear"
-    low.set_title(f"{vehicle.name} at its worst placement: {words}"[:110], fontsize=8)
+    u = vehicle.underside_or_default()
+    source = ("\nunderside: the class default, no source" if u.defaulted
+              else "" if u.note == "given" else "\nunderside: angles derived from the clearance")
+    low.set_title(f"{vehicle.name} at its worst placement: {words}"[:110] + source,
+                  fontsize=8)
     low.legend(loc="upper left", fontsize=7)
     fig.tight_layout()
     return save(fig, stem)[0]

@@ -16,10 +16,11 @@ from reports.records import COLUMNS
 from reports.vertical import grade_limit_pct, vertical_check, vertical_words
 from vehicles.table import load_tables
 
-CARS = """name,category,units,length,width,wheelbase,front_overhang,max_steer_deg,ground_clearance,grade_limit_pct,source
-LowCar,passenger car,m,4.6,1.8,2.7,0.9,35,0.10,,test: a low car
-SUV,passenger car,m,4.6,1.8,2.7,0.9,35,0.22,20,test: an SUV
-"""
+CARS = "\n".join([
+    "name,category,units,length,width,wheelbase,front_overhang,max_steer_deg,"
+    "ground_clearance,grade_limit_pct,source",
+    "LowCar,passenger car,m,4.6,1.8,2.7,0.9,35,0.10,,test: a low car",
+    "SUV,passenger car,m,4.6,1.8,2.7,0.9,35,0.22,20,test: an SUV", ""])
 
 
 @pytest.fixture(scope="module")
