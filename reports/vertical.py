@@ -26,7 +26,8 @@ from networks.geometry import arc_length
 from reports.records import RunRecord
 from vehicles.vehicle import Vehicle
 
-__all__ = ["FINDINGS", "add_vertical", "grade_limit_pct", "vertical_check", "vertical_words"]
+__all__ = ["FINDINGS", "add_vertical", "grade_limit_pct", "profile_of", "vertical_check",
+           "vertical_result", "vertical_words"]
 
 #: The vertical findings that fail a gate (``clearance check`` exits 1 on them).
 FINDINGS = ("scrapes", "too-steep")

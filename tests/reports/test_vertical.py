@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import csv
+import json
 import math
 from pathlib import Path
 
@@ -78,6 +79,8 @@ def test_gate_and_csv_carry_the_vertical_finding(ramp_net, cars, tmp_path, capsy
     assert list(rows[0])[-6:] == COLUMNS[-6:]
     foot = [r for r in rows if r["junction"] == "B"]
     assert {r["vehicle"]: r["vertical"] for r in foot} == {"LowCar": "scrapes", "SUV": "clear"}
+    summary = json.loads((out_dir / "summary.json").read_text())["vertical"]
+    assert summary["findings"]["scrapes"] == sum("scrapes" in r["vertical"] for r in rows) >= 1
     html = (out_dir / "report.html").read_text()
     assert "Vertical checks" in html and "LowCar" in html
 
