@@ -16,12 +16,13 @@ methods:
     (:mod:`reports.analytic`).
 
 The runs go out in batches of curves (:data:`BATCH_RUNS` runs at most, a curve's vehicles
-together) to worker processes through one executor (:mod:`reports.executor`): local
-processes or a Dask cluster. Each batch is run by :func:`reports.batch.run_batch`; a run
-that fails gets an ``error`` record with the reason, and a batch whose worker dies (a crash
-in SUMO) is retried alone and then by halves until the runs that crash are found, which get
-``error`` records too. The batches are the same whatever the executor and the number of
-workers, so the results are too.
+together; the curves without their areas, which each worker builds from its own copy of the
+network, :func:`reports.batch.with_areas`) to worker processes through one executor
+(:mod:`reports.executor`): local processes or a Dask cluster. Each batch is run by
+:func:`reports.batch.run_batch`; a run that fails gets an ``error`` record with the
+reason, and a batch whose worker dies (a crash in SUMO) is retried alone and then by halves
+until the runs that crash are found, which get ``error`` records too. The batches are the
+same whatever the executor and the number of workers, so the results are too.
 
 The result is a :class:`Study`: one :class:`RunRecord` per network x vehicle x curve, in a
 stable order (network, curve, vehicle table order), and the networks with their curves.
@@ -44,7 +45,7 @@ from networks.curves import Curve, CurveOptions
 from networks.permissions import permits
 from networks.reader import Network, read_network
 from networks.selection import Selection, check_junctions, load_selected
-from reports.batch import Batch, detached, lost_batch, run_batch, split_batch
+from reports.batch import Batch, bare, lost_batch, run_batch, split_batch
 from reports.executor import Executor, make_executor, run_isolated
 from reports.records import COLUMNS, VERDICT_ORDER, RunRecord
 from vehicles.errors import InputError
@@ -188,7 +189,7 @@ def batches_of(nc: NetworkCurves, vehicles: Sequence[Vehicle], method: str,
                         None if fcd_dir is None else str(fcd_dir), level, use_sumo=use_sumo,
                         swing=swing)
             k, pairs = k + 1, []
-        d = detached(c)
+        d = bare(c)
         pairs += [(vi, d) for vi in which]
     if pairs:
         yield Batch(nc.name, k, method, clearance_m, vs, tuple(pairs),
@@ -253,7 +254,7 @@ def run_study(
             runs = sum(len(v) for v in allowed[nc.name].values())
             if not runs:
                 continue
-            shared = ex.share(nc.path) if method == "simulate" else None
+            shared = ex.share(nc.path)  # the workers build the areas from it
             t0 = time.perf_counter()
             size = max(1, min(BATCH_RUNS, -(-runs // (2 * ex.workers))))
             tasks = batches_of(nc, vehicles, method, clearance_m, fcd_dir, size,
