@@ -341,7 +341,10 @@ def _network_tasks(study: Study, tables: list[Path], units: str,
     for nc in study.networks:
         records = tuple(r for r in study.records if r.network == nc.name)
         by_id = {c.curve_id: c for c in nc.curves}
-        sheet_ids = dict.fromkeys(r.curve_id for r in pick_sheets(records, MAX_SHEETS))
+        # the sheets' runs pick themselves again from themselves (the worst of each curve
+        # first, then the rest worst first), so they are all the sheets task is sent
+        sheeted = tuple(pick_sheets(records, MAX_SHEETS))
+        sheet_ids = dict.fromkeys(r.curve_id for r in sheeted)
         f = frame[(frame.network == nc.name) & (frame.verdict != "error")]
         drawn_ids = (dict.fromkeys(worst_by_curve(f).head(DRAWN_RUNS).curve_id)
                      if study.method == "simulate" and not f.empty else {})
@@ -349,8 +352,8 @@ def _network_tasks(study: Study, tables: list[Path], units: str,
         base = NetworkTask(nc.name, str(nc.path), (), records, head, tuple(map(str, tables)),
                            units, names, origin)
         out.append((network_sheets_pdf, NetworkTask(
-            **{**base.__dict__, "curves": tuple(bare(by_id[c]) for c in sheet_ids)}),
-            nc.path))
+            **{**base.__dict__, "curves": tuple(bare(by_id[c]) for c in sheet_ids),
+               "records": sheeted}), nc.path))
         out.append((network_exports, NetworkTask(
             **{**base.__dict__, "curves": tuple(bare(by_id[c]) for c in drawn_ids)}),
             nc.path))
