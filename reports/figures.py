@@ -15,6 +15,7 @@ shared disk.
 
 from __future__ import annotations
 
+import gc
 import math
 import tempfile
 from collections.abc import Callable, Sequence
@@ -213,7 +214,8 @@ def plot_curve(nc: NetworkCurves, curve: Curve, records: list[RunRecord], stem: 
 
 def scratch_files(make: Callable[[Path], object]) -> dict[str, bytes]:
     """The files ``make(folder)`` writes into a fresh temporary folder, by their paths
-    relative to it (``/``-separated); the folder is removed.
+    relative to it (``/``-separated); the folder is removed, and what ``make`` left for the
+    garbage collector is collected.
 
     Examples
     --------
@@ -225,6 +227,9 @@ def scratch_files(make: Callable[[Path], object]) -> dict[str, bytes]:
     with tempfile.TemporaryDirectory(prefix="clearance-draw-") as tmp:
         root = Path(tmp)
         make(root)
+        # a closed figure is a web of reference cycles: free it now, not at some later
+        # collection (a worker drawing 30 figures grew by about 6 MB a figure)
+        gc.collect()
         return {p.relative_to(root).as_posix(): p.read_bytes()
                 for p in sorted(root.rglob("*")) if p.is_file()}
 
