@@ -243,7 +243,8 @@ class NetworkTask:
         net = worker_network(shared)
         curves = list(self.curves)
         with_areas(net, curves)
-        nc = NetworkCurves(self.network, Path(self.path), net, curves)
+        # the file as this worker has it (on a cluster maybe a copy under another folder)
+        nc = NetworkCurves(self.network, Path(net.path), net, curves)
         return Study(list(self.records), [nc], self.study.table, self.study.method,
                      self.study.clearance_m)
 
