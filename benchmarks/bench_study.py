@@ -3,8 +3,10 @@
 Runs ``clearance report`` as a user would (a subprocess) on the DRT network the
 eclipse-sumo wheel ships (``tools/game/DRT/osm.net.xml``, a few thousand junctions) for P,
 SU-30, CITY-BUS and WB-62, alternating 1 and 2 workers over the repeats, and prints per
-run and as medians: wall time, runs per second, peak memory of all processes together,
-and the speed-up of 2 workers over 1 (the ratio of the medians).
+run and as medians: wall time, runs per second, peak memory of all processes together
+(the sum of resident sets, and of proportional sets, which counts the pages the workers
+share once: :mod:`measure`), and the speed-up of 2 workers over 1 (the ratio of the
+medians).
 
 Targets (issue 18): 2 workers at least 1.8 times one; the study in at most 3 minutes on a
 2-core machine; at most 2 GB in all processes together.
@@ -36,6 +38,7 @@ def main() -> None:
     vehicles = args.vehicle or list(VEHICLES)
     times: dict[int, list[float]] = {1: [], 2: []}
     peaks: dict[int, list[float]] = {1: [], 2: []}
+    pss: dict[int, list[float]] = {1: [], 2: []}
     runs = 0
     print(f"{net} x {', '.join(vehicles)}")
     for rep in range(args.repeats):
@@ -52,12 +55,15 @@ def main() -> None:
                 _, runs = verdict_counts(out / "clearance.csv")
             times[workers].append(m.wall_s)
             peaks[workers].append(m.peak_bytes / 1e9)
+            pss[workers].append(m.peak_pss_bytes / 1e9)
             print(f"  repeat {rep + 1}, {workers} worker(s): {m.wall_s:.1f} s, "
-                  f"{runs / m.wall_s:.1f} runs/s, peak {m.peak_bytes / 1e9:.2f} GB", flush=True)
+                  f"{runs / m.wall_s:.1f} runs/s, peak {m.peak_bytes / 1e9:.2f} GB "
+                  f"(PSS {m.peak_pss_bytes / 1e9:.2f} GB)", flush=True)
     t1, t2 = statistics.median(times[1]), statistics.median(times[2])
     print(f"{runs} runs. Medians: 1 worker {t1:.1f} s ({runs / t1:.1f} runs/s, peak "
-          f"{max(peaks[1]):.2f} GB); 2 workers {t2:.1f} s ({runs / t2:.1f} runs/s, peak "
-          f"{max(peaks[2]):.2f} GB); speed-up {t1 / t2:.2f}x")
+          f"{max(peaks[1]):.2f} GB, PSS {max(pss[1]):.2f} GB); 2 workers {t2:.1f} s "
+          f"({runs / t2:.1f} runs/s, peak {max(peaks[2]):.2f} GB, PSS {max(pss[2]):.2f} GB); "
+          f"speed-up {t1 / t2:.2f}x")
 
 
 if __name__ == "__main__":

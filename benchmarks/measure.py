@@ -6,6 +6,12 @@ The peak is sampled: every ``interval_s`` the resident set sizes of the process 
 descendants (``/proc/PID/task/*/children``) are added up; the largest sum is the peak. A
 spike shorter than the interval can be missed, so the figure is a lower bound within a few
 per cent for processes that grow steadily, as a study's do.
+
+A sum of resident sets counts the pages the processes share (the worker processes fork
+from one server that has imported numpy, shapely and libsumo once) once per process; the
+proportional set sizes (``Pss`` of ``/proc/PID/smaps_rollup``: each shared page divided
+among its sharers) add up to the memory the tree really holds, which is also sampled
+(``peak_pss_bytes``).
 """
 
 from __future__ import annotations
@@ -43,17 +49,38 @@ def _rss_bytes(pid: int) -> int:
     return 0
 
 
-def tree_rss_bytes(pid: int) -> int:
-    """Resident memory of ``pid`` and all its descendants, now."""
-    total, todo, seen = 0, [pid], set()
+def _pss_bytes(pid: int) -> int:
+    try:
+        for line in Path(f"/proc/{pid}/smaps_rollup").read_text().splitlines():
+            if line.startswith("Pss:"):
+                return int(line.split()[1]) * 1024
+    except OSError:
+        pass
+    return 0
+
+
+def _tree(pid: int) -> list[int]:
+    out, todo, seen = [], [pid], set()
     while todo:
         p = todo.pop()
         if p in seen:
             continue
         seen.add(p)
-        total += _rss_bytes(p)
+        out.append(p)
         todo += _children(p)
-    return total
+    return out
+
+
+def tree_rss_bytes(pid: int) -> int:
+    """Resident memory of ``pid`` and all its descendants, now (shared pages counted in
+    every process that maps them)."""
+    return sum(_rss_bytes(p) for p in _tree(pid))
+
+
+def tree_pss_bytes(pid: int) -> int:
+    """Proportional memory of ``pid`` and all its descendants, now (shared pages divided
+    among the processes that share them)."""
+    return sum(_pss_bytes(p) for p in _tree(pid))
 
 
 @dataclass
@@ -64,6 +91,7 @@ class Measured:
     peak_bytes: int
     returncode: int
     stderr: str
+    peak_pss_bytes: int = 0
 
 
 def run_measured(cmd: list[str], interval_s: float = 0.1, cwd: Path | None = None) -> Measured:
@@ -71,13 +99,15 @@ def run_measured(cmd: list[str], interval_s: float = 0.1, cwd: Path | None = Non
     t0 = time.perf_counter()
     proc = subprocess.Popen(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True,
                             cwd=cwd)
-    peak = 0
+    peak = peak_pss = 0
     done = threading.Event()
 
     def sample() -> None:
-        nonlocal peak
+        nonlocal peak, peak_pss
         while not done.is_set():
-            peak = max(peak, tree_rss_bytes(proc.pid))
+            pids = _tree(proc.pid)
+            peak = max(peak, sum(_rss_bytes(p) for p in pids))
+            peak_pss = max(peak_pss, sum(_pss_bytes(p) for p in pids))
             done.wait(interval_s)
 
     sampler = threading.Thread(target=sample, daemon=True)
@@ -86,7 +116,7 @@ def run_measured(cmd: list[str], interval_s: float = 0.1, cwd: Path | None = Non
     wall = time.perf_counter() - t0
     done.set()
     sampler.join()
-    return Measured(wall, peak, proc.returncode, err)
+    return Measured(wall, peak, proc.returncode, err, peak_pss)
 
 
 def game_networks() -> list[Path]:

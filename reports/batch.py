@@ -1,9 +1,13 @@
 """One batch of a study's runs, as a worker process runs it: vehicles x curves -> records.
 
-A :class:`Batch` is picklable and self-contained: the vehicles, the curves with their
-areas (detached from the network's area book), the method and the clearance offset. A
-worker reads the network only for SUMO (``simulate``), once per process
-(:func:`worker_network`).
+A :class:`Batch` is picklable and self-contained: the vehicles, the curves (without
+their areas: :func:`bare`), the method and the clearance offset. A worker reads the
+network once per process (:func:`worker_network`) and builds the areas of its batch's
+curves itself (:func:`with_areas`): the areas of a curve are the same whichever batch
+builds them (:mod:`networks.areas`), so the parent builds none, and a batch pickles
+centre lines, not polygons. A record goes back with the parts of its envelope outside its
+lanes and its pavement (:attr:`RunRecord.conflict`), which the exports draw, so that the
+parent never needs a curve's areas.
 
 Nothing one run does stops the others: a curve whose centre line cannot be driven, a
 model or geometry error, anything the run raises, becomes that run's ``error`` record with
@@ -24,21 +28,26 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass, replace
 from pathlib import Path
 
+from shapely.geometry.base import BaseGeometry
+
 from analysis.path_search import encroaches_on
 from analysis.tracking import TrackingSettings
+from networks.area_groups import AreaIndex
+from networks.areas import build_areas
 from networks.curves import Curve
 from networks.reader import Network, read_network
 from networks.sumo.driver import DrivenRun, DriveOptions, drive
 from reports.analytic import minimum_ctr_m, run_analytic
 from reports.executor import SharedFile
+from reports.exports import conflict_parts
 from reports.file_names import file_name
 from reports.records import RunRecord
 from vehicles.errors import InputError
 from vehicles.vehicle import Vehicle
 
-__all__ = ["Batch", "DriveTask", "detached", "error_record", "isolate", "lost_batch",
+__all__ = ["Batch", "DriveTask", "bare", "detached", "error_record", "isolate", "lost_batch",
            "lost_drive", "run_batch", "run_drive", "split_batch", "split_drive",
-           "worker_network"]
+           "with_areas", "worker_network"]
 
 log = logging.getLogger(__name__)
 
@@ -98,6 +107,28 @@ def detached(curve: Curve) -> Curve:
     out = copy.copy(curve)
     out.set_areas(curve.own_lanes, curve.roadway, curve.paved)
     return out
+
+
+def bare(curve: Curve) -> Curve:
+    """A copy of ``curve`` without its areas and without the network's area book: what a
+    batch sends (a worker builds the areas again, :func:`with_areas`)."""
+    out = copy.copy(curve)
+    out.set_areas(None, None, None)
+    out.area_batch = -1
+    return out
+
+
+def with_areas(net: Network, curves: Sequence[Curve]) -> None:
+    """Give every curve of ``curves`` that has no areas its three areas, built in this
+    process from ``net`` (the same geometry as the parent's: :func:`networks.areas.build_areas`
+    makes an area the same whichever batch builds it)."""
+    todo = list({id(c): c for c in curves
+                 if c.area_book is None and c._own is None}.values())
+    if not todo:
+        return
+    own, roadway, paved = build_areas(_area_index(net), todo)
+    for c, o, r, p in zip(todo, own, roadway, paved, strict=True):
+        c.set_areas(o, r, p)
 
 
 def split_batch(batch: Batch) -> list[Batch]:
@@ -170,6 +201,15 @@ class StudyInputError(InputError):
 
 #: The networks this worker process has read, by file identity.
 _NETWORKS: dict[tuple[str, str], Network] = {}
+#: The area topology of each network of :data:`_NETWORKS` (by the network's id).
+_INDEXES: dict[int, AreaIndex] = {}
+
+
+def _area_index(net: Network) -> AreaIndex:
+    if id(net) not in _INDEXES:
+        _INDEXES.clear()
+        _INDEXES[id(net)] = AreaIndex(net)
+    return _INDEXES[id(net)]
 
 
 def worker_network(shared: SharedFile) -> Network:
@@ -203,6 +243,7 @@ def worker_network(shared: SharedFile) -> Network:
     key = (str(path.resolve()), f"{st.st_size}:{st.st_mtime_ns}")
     if key not in _NETWORKS:
         _NETWORKS.clear()  # one network at a time: a study goes network by network
+        _INDEXES.clear()
         _NETWORKS[key] = read_network(path)
     return _NETWORKS[key]
 
@@ -246,7 +287,16 @@ def _driven_record(batch: Batch, r: DrivenRun) -> RunRecord:
         turn_angle_deg=curve.turn_angle_deg, max_grade_pct=curve.max_grade_pct,
         method="simulate", clearance_m=batch.clearance_m, reason=r.reason,
         envelope=res.measured, lane_verdict=r.lane_verdict, lane_margin_m=r.lane_margin_m,
-        path=r.path, encroaches_on=r.encroaches_on)
+        path=r.path, encroaches_on=r.encroaches_on,
+        conflict=_conflict(res.measured, curve))
+
+
+def _conflict(envelope: BaseGeometry | None, curve: Curve
+              ) -> tuple[BaseGeometry | None, BaseGeometry | None] | None:
+    """The envelope's parts outside its lanes and outside the pavement (the exports')."""
+    if envelope is None or envelope.is_empty:
+        return None
+    return conflict_parts(envelope, curve.own_lanes, curve.paved)
 
 
 def _analytic(batch: Batch, items: Sequence[tuple[int, Curve]]) -> list[RunRecord]:
@@ -261,14 +311,16 @@ def _analytic(batch: Batch, items: Sequence[tuple[int, Curve]]) -> list[RunRecor
             r.swept_width_m, curve.lane_width_m, r.max_offtracking_m, 0.0,
             curve.turn_angle_deg, curve.max_grade_pct, "analytic", batch.clearance_m,
             c.reason, r.envelope, lane_verdict=c.verdict, lane_margin_m=c.margin_m,
-            path="lane", encroaches_on=encroaches_on(c)))
+            path="lane", encroaches_on=encroaches_on(c),
+            conflict=_conflict(r.envelope, curve)))
     return out
 
 
 def run_batch(batch: Batch, shared: SharedFile | None = None) -> list[RunRecord]:
     """Every run of ``batch``, one record each in the batch's order (the task a worker runs).
 
-    ``shared`` is the network file (needed by ``simulate`` only).
+    ``shared`` is the network file (needed by ``simulate``, and to build the areas of
+    :func:`bare` curves).
     """
     _configure_logging(batch.log_level)
 
@@ -277,13 +329,18 @@ def run_batch(batch: Batch, shared: SharedFile | None = None) -> list[RunRecord]
         return error_record(batch.network, batch.vehicles[v], c, batch.method,
                             batch.clearance_m, reason)
 
+    net = worker_network(shared) if shared is not None else None
+    missing = [c for _, c in batch.pairs if c.area_book is None and c._own is None]
+    if missing:
+        if net is None:
+            raise StudyInputError(f"{batch.label}: curves without areas need the network file")
+        with_areas(net, missing)
     if batch.method == "analytic":
         def run(items: Sequence[tuple[int, Curve]]) -> list[RunRecord]:
             return _analytic(batch, items)
     else:
-        if shared is None:
+        if net is None:
             raise StudyInputError(f"{batch.label}: simulate needs the network file")
-        net = worker_network(shared)
 
         def run(items: Sequence[tuple[int, Curve]]) -> list[RunRecord]:
             return _simulated(batch, net, items)

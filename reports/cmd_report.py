@@ -5,20 +5,41 @@ tables, output under ``reports/out/``. Everything is written into a fresh folder
 output folder and swapped in at the end in one atomic step (:mod:`reports.output_dir`), so
 an interrupted or failing run leaves the previous report intact. An existing folder is
 replaced only when it is a previous report (:data:`LAYOUT`); anything else is refused.
+
+The study's executor stays open for the report: the curve figures, each network's sheets
+and each network's exports are drawn in its workers (:class:`Drawings`), which send the
+files back as bytes, while this process draws the network plans and writes the tables;
+the files are the same whichever process draws them (``tests/reports/test_report.py``).
 """
 
 from __future__ import annotations
 
 import argparse
 import logging
+import tempfile
 import time
+from collections.abc import Callable
+from concurrent.futures import Future
+from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
+from networks.curves import Curve
 from networks.samples.build import SAMPLES, SAMPLES_DIR
-from reports.atomic import write_text_atomic
-from reports.document import build_sections, html_document, markdown
+from reports.atomic import write_bytes_atomic, write_text_atomic
+from reports.batch import bare, with_areas, worker_network
+from reports.document import (
+    COMPACT_MADE,
+    build_sections,
+    compact_key,
+    compact_png,
+    html_document,
+    markdown,
+)
+from reports.executor import Executor, SharedFile, make_executor
 from reports.export_geojson import lonlat_transformer, parse_origin
 from reports.exports import EnvelopeRecord, conflict_parts
+from reports.figures import CurveFigure, draw_curve_figure, scratch_files, worst_by_curve
 from reports.file_names import file_name
 from reports.options import (
     add_clearance_option,
@@ -34,15 +55,17 @@ from reports.options import (
     selection_of,
 )
 from reports.output_dir import Layout, output_folder
-from reports.study import COLUMNS, METHODS, VERDICT_ORDER, Study, run_study
+from reports.records import RunRecord
+from reports.study import COLUMNS, METHODS, VERDICT_ORDER, NetworkCurves, Study, run_study
 from reports.tables import clearance_csv, summary_json
 from reports.text_table import counted
 from reports.waivers import Waived, read_waivers, study_waivers
 from vehicles.table import bundled_table_paths, load_tables
 
-__all__ = ["DEFAULT_OUTPUT", "DRAWN_RUNS", "LAYOUT", "add_parser", "drawn_geometry",
-           "envelope_records", "export_names", "run", "sample_networks", "write_exports",
-           "write_report"]
+__all__ = ["COMPACT", "DEFAULT_OUTPUT", "DRAWN_RUNS", "LAYOUT", "Drawings", "NetworkTask",
+           "add_parser", "curve_figure_files", "drawn_geometry", "envelope_records",
+           "export_names", "network_exports", "network_sheets_pdf", "run", "sample_networks",
+           "write_exports", "write_report"]
 
 log = logging.getLogger(__name__)
 
@@ -115,7 +138,6 @@ def drawn_geometry(study: Study, limit: int = DRAWN_RUNS
     (network, vehicle, curve id). The runs are driven again without SUMO (the same model,
     so the same paths)."""
     from reports.drawing import rerun, run_geometry
-    from reports.figures import worst_by_curve
 
     out: dict[tuple[str, str, str], tuple[tuple, tuple]] = {}
     if study.method != "simulate":
@@ -146,9 +168,12 @@ def envelope_records(study: Study,
     for r in study.records:
         if r.verdict == "error" or r.envelope is None or r.envelope.is_empty:
             continue
-        curve = curves.get((r.network, r.curve_id))
-        lanes, paved = (curve.own_lanes, curve.paved) if curve is not None else (None, None)
-        outside_lanes, outside_pavement = conflict_parts(r.envelope, lanes, paved)
+        if r.conflict is not None:  # measured by the worker that ran it
+            outside_lanes, outside_pavement = r.conflict
+        else:
+            curve = curves.get((r.network, r.curve_id))
+            lanes, paved = (curve.own_lanes, curve.paved) if curve is not None else (None, None)
+            outside_lanes, outside_pavement = conflict_parts(r.envelope, lanes, paved)
         out.append(EnvelopeRecord(
             r.network, r.vehicle, r.curve_id, r.kind, r.verdict, r.margin_m, r.envelope,
             offset_m=r.clearance_m, outside_lanes=outside_lanes,
@@ -169,45 +194,201 @@ def export_names(network: str, georeferenced: bool) -> dict[str, str]:
                                  else ".local-metres.geojson")}
 
 
+def _georeferenced(nc: NetworkCurves, origin: tuple[float, float] | None) -> bool:
+    return origin is not None or lonlat_transformer(nc.name, nc.network.location) is not None
+
+
+def _write_network_exports(out: Path, records: list[EnvelopeRecord], nc: NetworkCurves,
+                           names: dict[str, str], origin: tuple[float, float] | None) -> None:
+    from reports.export_dxf import write_dxf
+    from reports.export_geojson import write_geojson
+    from reports.export_sumo import write_sumo_additional
+
+    write_sumo_additional(out / names["sumo"], records)
+    write_dxf(out / names["dxf"], records, nc.network)
+    write_geojson(out / names["geojson"], records, {nc.name: nc.network.location}, origin)
+
+
 def write_exports(study: Study, folder: Path, origin: tuple[float, float] | None = None
                   ) -> dict[str, dict[str, str]]:
     """Each network's sumo-gui additional file, DXF and GeoJSON under ``folder/exports``
     (:func:`export_names`); returns the names written by network."""
-    from reports.export_dxf import write_dxf
-    from reports.export_geojson import write_geojson
-    from reports.export_sumo import write_sumo_additional
     from reports.exports import by_network
 
     groups = by_network(envelope_records(study, drawn_geometry(study)))
     written = {}
     for nc in study.networks:
-        records = groups.get(nc.name, [])
-        location = nc.network.location
-        georef = origin is not None or lonlat_transformer(nc.name, location) is not None
-        names = export_names(nc.name, georef)
-        out = folder / "exports"
-        write_sumo_additional(out / names["sumo"], records)
-        write_dxf(out / names["dxf"], records, nc.network)
-        write_geojson(out / names["geojson"], records, {nc.name: location}, origin)
+        names = export_names(nc.name, _georeferenced(nc, origin))
+        _write_network_exports(folder / "exports", groups.get(nc.name, []), nc, names, origin)
         written[nc.name] = names
     return written
 
 
+@dataclass(frozen=True)
+class NetworkTask:
+    """One network's part of a report, to write in a worker: its records, the curves the
+    part draws (without their areas, :func:`reports.batch.bare`), what else it needs."""
+
+    network: str
+    path: str
+    curves: tuple[Curve, ...]
+    records: tuple[RunRecord, ...]
+    study: Study  # table, method, clearance (no records, no networks)
+    tables: tuple[str, ...] = ()
+    units: str = "m"
+    names: tuple[tuple[str, str], ...] = ()
+    origin: tuple[float, float] | None = None
+
+    def local(self, shared: SharedFile) -> Study:
+        """The task's study in this process: its records, its network and curves (with
+        their areas built here)."""
+        net = worker_network(shared)
+        curves = list(self.curves)
+        with_areas(net, curves)
+        # the file as this worker has it (on a cluster maybe a copy under another folder)
+        nc = NetworkCurves(self.network, Path(net.path), net, curves)
+        return Study(list(self.records), [nc], self.study.table, self.study.method,
+                     self.study.clearance_m)
+
+
+def network_exports(task: NetworkTask, shared: SharedFile) -> dict[str, bytes]:
+    """One network's exports (:func:`write_exports`), as files relative to the report."""
+    study = task.local(shared)
+    names = dict(task.names)
+    recs = envelope_records(study, drawn_geometry(study))
+    return scratch_files(lambda root: _write_network_exports(
+        root / "exports", recs, study.networks[0], names, task.origin))
+
+
+def network_sheets_pdf(task: NetworkTask, shared: SharedFile) -> dict[str, bytes]:
+    """One network's sheets (:func:`reports.sheets.write_sheets`), as files relative to
+    the report."""
+    from reports.sheets import write_sheets
+
+    study = task.local(shared)
+    return scratch_files(lambda root: write_sheets(study, root / "sheets",
+                                                   [Path(t) for t in task.tables], task.units))
+
+
+#: The name under which a task's files carry the compact copy of a PNG for the HTML
+#: (:func:`reports.document.compact_png`): this prefix and the copy's key.
+COMPACT = "compact:"
+
+
+def curve_figure_files(task: CurveFigure, shared: SharedFile) -> dict[str, bytes]:
+    """A curve figure's files (:func:`reports.figures.draw_curve_figure`) and the compact
+    copy of its PNG that report.html embeds (made here, where the PNG is)."""
+    files = draw_curve_figure(task, shared)
+    for rel in [r for r in files if r.endswith(".png")]:
+        key = compact_key(files[rel])
+        with tempfile.TemporaryDirectory(prefix="clearance-compact-") as tmp:
+            png = Path(tmp) / "figure.png"
+            png.write_bytes(files[rel])
+            files[COMPACT + key] = compact_png(png)
+    return files
+
+
+class Drawings:
+    """The figures, sheets and exports of a report drawn in the executor's workers.
+
+    Each task (:func:`reports.figures.draw_curve_figure`, :func:`network_sheets_pdf`,
+    :func:`network_exports`) returns its files as bytes; :meth:`finish` waits for them
+    and writes them under ``folder``."""
+
+    def __init__(self, executor: Executor, folder: Path) -> None:
+        self.executor, self.folder = executor, folder
+        self._pending: list[Future[dict[str, bytes]]] = []
+        self._shared: dict[str, SharedFile] = {}
+
+    def submit(self, fn: Callable[[Any, SharedFile], dict[str, bytes]], task: Any,
+               path: Path) -> None:
+        key = str(path)
+        if key not in self._shared:
+            self._shared[key] = self.executor.share(path)
+        self._pending.append(self.executor.submit(fn, task, self._shared[key]))
+
+    def curve_figure(self, study: Study, units: str
+                     ) -> Callable[[NetworkCurves, Curve, list[RunRecord], Path], Path]:
+        """A ``draw`` for :func:`reports.document.build_sections`."""
+        def draw(nc: NetworkCurves, curve: Curve, records: list[RunRecord], stem: Path
+                 ) -> Path:
+            task = CurveFigure(nc.name, str(nc.path), bare(curve), tuple(records),
+                               stem.relative_to(self.folder).as_posix(), study.table, units)
+            self.submit(curve_figure_files, task, nc.path)
+            return Path(f"{stem}.png")
+        return draw
+
+    def finish(self) -> None:
+        """Wait for every task and write its files."""
+        for future in self._pending:
+            for rel, data in future.result().items():
+                if rel.startswith(COMPACT):
+                    COMPACT_MADE[rel.removeprefix(COMPACT)] = data
+                else:
+                    write_bytes_atomic(self.folder / rel, data)
+        self._pending.clear()
+
+
+def _network_tasks(study: Study, tables: list[Path], units: str,
+                   origin: tuple[float, float] | None
+                   ) -> list[tuple[Callable[[Any, SharedFile], dict[str, bytes]],
+                                   NetworkTask, Path]]:
+    """The sheets and exports task of every network: each with the network's records and
+    the curves it draws (those of :func:`reports.sheets.pick_sheets` and of
+    :func:`drawn_geometry`)."""
+    from reports.sheets import MAX_SHEETS, pick_sheets
+
+    frame = study.frame()
+    head = Study([], [], study.table, study.method, study.clearance_m)
+    out: list[tuple[Callable[[Any, SharedFile], dict[str, bytes]], NetworkTask, Path]] = []
+    for nc in study.networks:
+        records = tuple(r for r in study.records if r.network == nc.name)
+        by_id = {c.curve_id: c for c in nc.curves}
+        # the sheets' runs pick themselves again from themselves (the worst of each curve
+        # first, then the rest worst first), so they are all the sheets task is sent
+        sheeted = tuple(pick_sheets(records, MAX_SHEETS))
+        sheet_ids = dict.fromkeys(r.curve_id for r in sheeted)
+        f = frame[(frame.network == nc.name) & (frame.verdict != "error")]
+        drawn_ids = (dict.fromkeys(worst_by_curve(f).head(DRAWN_RUNS).curve_id)
+                     if study.method == "simulate" and not f.empty else {})
+        names = tuple(export_names(nc.name, _georeferenced(nc, origin)).items())
+        base = NetworkTask(nc.name, str(nc.path), (), records, head, tuple(map(str, tables)),
+                           units, names, origin)
+        out.append((network_sheets_pdf, NetworkTask(
+            **{**base.__dict__, "curves": tuple(bare(by_id[c]) for c in sheet_ids),
+               "records": sheeted}), nc.path))
+        out.append((network_exports, NetworkTask(
+            **{**base.__dict__, "curves": tuple(bare(by_id[c]) for c in drawn_ids)}),
+            nc.path))
+    return out
+
+
 def write_report(study: Study, folder: Path, tables: list[Path], units: str = "m",
-                 waived: Waived | None = None, origin: tuple[float, float] | None = None
-                 ) -> None:
+                 waived: Waived | None = None, origin: tuple[float, float] | None = None,
+                 executor: Executor | None = None) -> None:
     """Write every output of ``study`` into ``folder`` (which must be new or empty);
     ``waived`` runs are shown as such (:mod:`reports.waivers`); ``origin`` (lat, lon)
-    places the networks without a projection in the GeoJSON exports."""
+    places the networks without a projection in the GeoJSON exports. With ``executor``
+    the curve figures, sheets and exports are drawn in its workers (:class:`Drawings`)."""
     from reports.sheets import write_sheets
 
     write_text_atomic(folder / "clearance.csv", clearance_csv(study, waived))
     write_text_atomic(folder / "summary.json", summary_json(study, tables, waived))
-    exports = write_exports(study, folder, origin)
-    sections = build_sections(study, folder, units, waived)
+    if executor is None:
+        exports = write_exports(study, folder, origin)
+        sections = build_sections(study, folder, units, waived)
+        write_sheets(study, folder / "sheets", tables, units)
+    else:
+        drawings = Drawings(executor, folder)
+        for fn, task, path in _network_tasks(study, tables, units, origin):
+            drawings.submit(fn, task, path)
+        exports = {nc.name: export_names(nc.name, _georeferenced(nc, origin))
+                   for nc in study.networks}
+        sections = build_sections(study, folder, units, waived,
+                                  draw=drawings.curve_figure(study, units))
+        drawings.finish()
     write_text_atomic(folder / "report.md", markdown(study, sections, folder, units))
     write_text_atomic(folder / "report.html", html_document(study, sections, units, exports))
-    write_sheets(study, folder / "sheets", tables, units)
 
 
 def run(args: argparse.Namespace) -> int:
@@ -222,14 +403,14 @@ def run(args: argparse.Namespace) -> int:
         waivers = read_waivers(Path(args.waivers), names)
     origin = parse_origin(args.origin) if args.origin else None
     target = Path(args.output) if args.output else DEFAULT_OUTPUT
-    with output_folder(target, LAYOUT) as staging:
+    with output_folder(target, LAYOUT) as staging, \
+            make_executor(args.workers, args.scheduler) as executor:
         fcd = staging / "fcd" if args.fcd else None
         study = run_study(nets, table, args.method, args.clearance, fcd_dir=fcd,
-                          workers=args.workers, scheduler=args.scheduler,
-                          selection=selection, swing=not args.lane_only,
+                          executor=executor, selection=selection, swing=not args.lane_only,
                           max_grade_pct=args.max_grade_pct)
         waived = study_waivers(study.frame(), waivers) if waivers is not None else None
-        write_report(study, staging, tables, args.units, waived, origin)
+        write_report(study, staging, tables, args.units, waived, origin, executor)
     frame = study.frame()
     counts = frame.verdict.value_counts()
     curves = sum(len(n.curves) for n in study.networks)

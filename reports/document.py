@@ -15,24 +15,27 @@ import html
 import io
 import math
 import re
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import pandas as pd
 
+from networks.curves import Curve
 from reports.figures import COLOURS, plot_curve, plot_network, worst_by_curve
 from reports.file_names import file_name
 from reports.profile_figure import VerticalEntry, vertical_entries
-from reports.study import VERDICT_ORDER, Study
+from reports.records import RunRecord
+from reports.study import VERDICT_ORDER, NetworkCurves, Study
 from reports.text_table import counted
 from reports.units import length_scale
 from reports.vertical import vertical_words
 from reports.waivers import Waived
 
-__all__ = ["CSS", "CurveEntry", "HTML_IMAGE_COLOURS", "HTML_IMAGE_WIDTH_PX", "MATRIX_VEHICLES",
-           "MAX_CURVE_FIGURES", "MAX_ENVELOPES", "SYMBOL", "Section", "TIGHT_M", "anchor",
-           "build_sections", "compact_png", "html_document", "margin_words", "markdown",
-           "pick_envelopes", "run_words"]
+__all__ = ["COMPACT_MADE", "CSS", "CurveEntry", "HTML_IMAGE_COLOURS", "HTML_IMAGE_WIDTH_PX",
+           "MATRIX_VEHICLES", "MAX_CURVE_FIGURES", "MAX_ENVELOPES", "SYMBOL", "Section",
+           "TIGHT_M", "anchor", "build_sections", "compact_key", "compact_png", "html_document",
+           "margin_words", "markdown", "pick_envelopes", "run_words"]
 
 #: A curve is *tight* when its smallest margin is below this (m) though clear.
 TIGHT_M = 0.25
@@ -80,8 +83,14 @@ class Section:
 
 
 def build_sections(study: Study, folder: Path, units: str = "m",
-                   waived: Waived | None = None) -> list[Section]:
+                   waived: Waived | None = None,
+                   draw: Callable[[NetworkCurves, Curve, list[RunRecord], Path], Path] | None
+                   = None) -> list[Section]:
     """Draw every figure under ``folder/figures`` and collect what the documents show.
+
+    ``draw(nc, curve, records, stem)``, when given, draws a curve's figure instead of
+    :func:`reports.figures.plot_curve` (in a worker: ``clearance report``) and returns
+    the path its PNG will have.
 
     Figures are named by :func:`reports.file_names.file_name`: ``<network>__plan`` and
     ``<network>__curve__<curve id>`` (with a short hash where the id needed changing).
@@ -128,7 +137,8 @@ def build_sections(study: Study, folder: Path, units: str = "m",
             recs.sort(key=lambda r: (VERDICT_ORDER[r.verdict], r.margin_m))
             shown = pick_envelopes(recs)
             stem = figs / file_name([nc.name, "curve", cid], room=4)
-            png = plot_curve(nc, by_id[cid], shown, stem, table=study.table, units=units)[0]
+            png = (plot_curve(nc, by_id[cid], shown, stem, table=study.table, units=units)[0]
+                   if draw is None else draw(nc, by_id[cid], shown, stem))
             caption = ", ".join(f"{r.vehicle} {r.verdict} ({r.margin_m / scale:+.2f} {units})"
                                 for r in shown)
             section.curve_figures.append((cid, png, caption))
@@ -355,6 +365,22 @@ HTML_IMAGE_WIDTH_PX = 600
 HTML_IMAGE_COLOURS = 24
 
 
+#: Compact copies already made (by a worker that drew the figure, which has the PNG at
+#: hand), by :func:`compact_key`: :func:`compact_png` of the same bytes returns them.
+COMPACT_MADE: dict[str, bytes] = {}
+
+
+def compact_key(data: bytes, width_px: int = HTML_IMAGE_WIDTH_PX,
+                colours: int = HTML_IMAGE_COLOURS) -> str:
+    """The key of a full PNG's compact copy in :data:`COMPACT_MADE`: its SHA-256 and the
+    size asked for.
+
+    >>> compact_key(b"")[-7:]
+    '-600-24'
+    """
+    return f"{hashlib.sha256(data).hexdigest()}-{width_px}-{colours}"
+
+
 def compact_png(png: Path, width_px: int = HTML_IMAGE_WIDTH_PX,
                 colours: int = HTML_IMAGE_COLOURS) -> bytes:
     """A figure made small for the HTML: scaled down to ``width_px`` and quantised to a
@@ -364,7 +390,11 @@ def compact_png(png: Path, width_px: int = HTML_IMAGE_WIDTH_PX,
     """
     from PIL import Image
 
-    with Image.open(png) as opened:
+    data = Path(png).read_bytes()
+    made = COMPACT_MADE.get(compact_key(data, width_px, colours))
+    if made is not None:
+        return made
+    with Image.open(io.BytesIO(data)) as opened:
         im = opened.convert("RGB")
         if im.width > width_px:
             im = im.resize((width_px, round(im.height * width_px / im.width)),

@@ -4,12 +4,22 @@ Every figure is a plan (x east, y north) with axes, a scale bar and numbers in t
 units (metres or feet), a north arrow and a legend, written as PNG and SVG at print size.
 The swept paths are drawn by :mod:`reports.drawing`; each vehicle keeps its colour
 (:func:`reports.plotting.vehicle_colours`) in every figure.
+
+A report's curve figures are drawn in the study's worker processes (:class:`CurveFigure`,
+:func:`draw_curve_figure`): each worker has its own copy of the network
+(:func:`reports.batch.worker_network`), builds the areas of the one curve it draws and
+returns the figure's files as bytes (:func:`scratch_files`), which the report's process
+writes; so a figure is the same file wherever it is drawn, and a cluster's workers need no
+shared disk.
 """
 
 from __future__ import annotations
 
+import gc
 import math
-from collections.abc import Sequence
+import tempfile
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, cast
 
@@ -20,7 +30,9 @@ from matplotlib.lines import Line2D
 
 from networks.curves import Curve
 from networks.plot import plot_plan
+from reports.batch import with_areas, worker_network
 from reports.drawing import Shown, draw_curve, length_text, rerun, view_bounds
+from reports.executor import SharedFile
 from reports.plotting import (
     add_north_arrow,
     add_scale_bar,
@@ -35,7 +47,8 @@ from vehicles.table import VehicleTable
 if TYPE_CHECKING:
     from numpy.typing import NDArray
 
-__all__ = ["COLOURS", "plot_curve", "plot_network", "shown_runs", "sites", "worst_by_curve"]
+__all__ = ["COLOURS", "CurveFigure", "draw_curve_figure", "plot_curve", "plot_network",
+           "scratch_files", "shown_runs", "sites", "worst_by_curve"]
 
 COLOURS = {"clear": "#1e8449", "encroaches": "#e67e22", "fails": "#c0392b",
            "cannot-turn": "#7d3c98", "error": "#000000"}
@@ -197,3 +210,52 @@ def plot_curve(nc: NetworkCurves, curve: Curve, records: list[RunRecord], stem: 
     ax.legend(handles=handles, loc="upper center", bbox_to_anchor=(0.5, -0.07), ncol=3,
               fontsize=6.5, frameon=False, handlelength=3.2)
     return save(fig, stem)
+
+
+def scratch_files(make: Callable[[Path], object]) -> dict[str, bytes]:
+    """The files ``make(folder)`` writes into a fresh temporary folder, by their paths
+    relative to it (``/``-separated); the folder is removed, and what ``make`` left for the
+    garbage collector is collected.
+
+    Examples
+    --------
+    >>> scratch_files(lambda d: (d / "a").mkdir() or (d / "a" / "x.txt").write_text("1"))
+    {'a/x.txt': b'1'}
+    >>> scratch_files(lambda d: None)
+    {}
+    """
+    with tempfile.TemporaryDirectory(prefix="clearance-draw-") as tmp:
+        root = Path(tmp)
+        make(root)
+        # a closed figure is a web of reference cycles: free it now, not at some later
+        # collection (a worker drawing 30 figures grew by about 6 MB a figure)
+        gc.collect()
+        return {p.relative_to(root).as_posix(): p.read_bytes()
+                for p in sorted(root.rglob("*")) if p.is_file()}
+
+
+@dataclass(frozen=True)
+class CurveFigure:
+    """One curve figure of a report, to draw in a worker (:func:`draw_curve_figure`).
+
+    ``curve`` comes without its areas (:func:`reports.batch.bare`); ``stem`` is the
+    figure's path relative to the report's folder, without suffix."""
+
+    network: str
+    path: str
+    curve: Curve
+    records: tuple[RunRecord, ...]
+    stem: str
+    table: VehicleTable | None
+    units: str = "m"
+
+
+def draw_curve_figure(task: CurveFigure, shared: SharedFile) -> dict[str, bytes]:
+    """Draw ``task``'s figure (:func:`plot_curve`) in this process, on its own copy of the
+    network; the files (PNG and SVG) by their paths relative to the report's folder."""
+    net = worker_network(shared)
+    with_areas(net, [task.curve])
+    nc = NetworkCurves(task.network, Path(task.path), net, [task.curve])
+    return scratch_files(lambda root: plot_curve(nc, task.curve, list(task.records),
+                                                 root / task.stem, table=task.table,
+                                                 units=task.units))

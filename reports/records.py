@@ -73,6 +73,11 @@ class RunRecord:
     vertical_part: str = ""
     grade_limit_pct: float = math.nan
     suspect_elevation: str = ""
+    #: The envelope's parts outside its own lanes (but paved) and outside the pavement
+    #: (:func:`reports.exports.conflict_parts`), computed where the curve's areas are (a
+    #: worker); ``None`` when not computed.
+    conflict: tuple[BaseGeometry | None, BaseGeometry | None] | None = field(
+        default=None, repr=False)
 
     def row(self) -> dict[str, object]:
         """The record's values by :data:`COLUMNS`."""

@@ -16,12 +16,13 @@ methods:
     (:mod:`reports.analytic`).
 
 The runs go out in batches of curves (:data:`BATCH_RUNS` runs at most, a curve's vehicles
-together) to worker processes through one executor (:mod:`reports.executor`): local
-processes or a Dask cluster. Each batch is run by :func:`reports.batch.run_batch`; a run
-that fails gets an ``error`` record with the reason, and a batch whose worker dies (a crash
-in SUMO) is retried alone and then by halves until the runs that crash are found, which get
-``error`` records too. The batches are the same whatever the executor and the number of
-workers, so the results are too.
+together; the curves without their areas, which each worker builds from its own copy of the
+network, :func:`reports.batch.with_areas`) to worker processes through one executor
+(:mod:`reports.executor`): local processes or a Dask cluster. Each batch is run by
+:func:`reports.batch.run_batch`; a run that fails gets an ``error`` record with the
+reason, and a batch whose worker dies (a crash in SUMO) is retried alone and then by halves
+until the runs that crash are found, which get ``error`` records too. The batches are the
+same whatever the executor and the number of workers, so the results are too.
 
 The result is a :class:`Study`: one :class:`RunRecord` per network x vehicle x curve, in a
 stable order (network, curve, vehicle table order), and the networks with their curves.
@@ -36,7 +37,7 @@ import time
 from collections.abc import Callable, Iterable, Iterator, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import Any, cast
 
 import pandas as pd
 
@@ -44,7 +45,7 @@ from networks.curves import Curve, CurveOptions
 from networks.permissions import permits
 from networks.reader import Network, read_network
 from networks.selection import Selection, check_junctions, load_selected
-from reports.batch import Batch, detached, lost_batch, run_batch, split_batch
+from reports.batch import Batch, bare, lost_batch, run_batch, split_batch
 from reports.executor import Executor, make_executor, run_isolated
 from reports.records import COLUMNS, VERDICT_ORDER, RunRecord
 from reports.vertical import add_vertical
@@ -52,9 +53,9 @@ from vehicles.errors import InputError
 from vehicles.table import VehicleTable
 from vehicles.vehicle import Vehicle
 
-__all__ = ["APPROACH_M", "BATCH_RUNS", "COLUMNS", "METHODS", "VERDICT_ORDER", "NetworkCurves",
-           "RunRecord", "Study", "batches_of", "load_networks", "network_name", "permitted",
-           "progress_bar", "run_study"]
+__all__ = ["APPROACH_M", "BATCH_RUNS", "COLUMNS", "METHODS", "MIN_BATCH_RUNS", "VERDICT_ORDER",
+           "NetworkCurves", "RunRecord", "Study", "batch_sizes", "batches_of", "load_networks",
+           "network_name", "permitted", "progress_bar", "run_study"]
 
 log = logging.getLogger(__name__)
 
@@ -64,6 +65,31 @@ METHODS = ("simulate", "analytic")
 #: start (0.2-0.3 s on a city network) is a few per cent of the batch, small enough that
 #: two workers share a small network and a crash costs little to isolate.
 BATCH_RUNS = 400
+
+#: The smallest batch the shrinking sizes of :func:`batch_sizes` go down to (SUMO's start
+#: is then about 5 % of the batch).
+MIN_BATCH_RUNS = 50
+
+
+def batch_sizes(runs: int, workers: int, largest: int = BATCH_RUNS,
+                smallest: int = MIN_BATCH_RUNS) -> Iterator[int]:
+    """The sizes of a network's batches, in order: each the runs left shared among twice
+    the workers, within ``smallest`` and ``largest``, so that the last batches are small
+    and no worker waits long for another's last batch (guided scheduling). The sizes
+    depend only on the counts, never on timing, and the results not on the sizes.
+
+    Examples
+    --------
+    >>> list(batch_sizes(1000, 2))
+    [250, 188, 141, 106, 79, 59, 50, 50, 50, 27]
+    >>> list(batch_sizes(30, 2)), list(batch_sizes(0, 2))
+    ([30], [])
+    """
+    left = runs
+    while left > 0:
+        size = min(left, max(smallest, min(largest, -(-left // (2 * workers)))))
+        yield size
+        left -= size
 
 
 @dataclass
@@ -166,12 +192,12 @@ def progress_bar(total: int, desc: str) -> Callable[[int], None]:
 
 def batches_of(nc: NetworkCurves, vehicles: Sequence[Vehicle], method: str,
                clearance_m: float, fcd_dir: Path | None = None,
-               size: int = BATCH_RUNS,
+               size: int | Iterator[int] = BATCH_RUNS,
                allowed: dict[str, list[int]] | None = None,
                use_sumo: bool = True, swing: bool = True) -> Iterator[Batch]:
     """The batches of one network: consecutive curves, each with all its vehicles (those
     ``allowed`` on it, when given: vehicle indices by curve id), up to ``size`` runs (one
-    curve at least).
+    curve at least); ``size`` may be the successive sizes (:func:`batch_sizes`).
 
     A run's result does not depend on the other runs of its batch (the model, the envelope
     and the verdict are computed run by run; SUMO only replays them), so the batches may be
@@ -180,18 +206,22 @@ def batches_of(nc: NetworkCurves, vehicles: Sequence[Vehicle], method: str,
     level = logging.getLogger("reports").getEffectiveLevel()
     vs = tuple(vehicles)
     every = list(range(len(vs)))
+    sizes = None if isinstance(size, int) else iter(size)
+    limit = next(sizes, BATCH_RUNS) if sizes is not None else cast(int, size)
     k = 0
     pairs: list[tuple[int, Curve]] = []
     for c in nc.curves:
         which = every if allowed is None else allowed.get(c.curve_id, [])
         if not which:
             continue
-        if pairs and len(pairs) + len(which) > size:
+        if pairs and len(pairs) + len(which) > limit:
             yield Batch(nc.name, k, method, clearance_m, vs, tuple(pairs),
                         None if fcd_dir is None else str(fcd_dir), level, use_sumo=use_sumo,
                         swing=swing)
             k, pairs = k + 1, []
-        d = detached(c)
+            if sizes is not None:
+                limit = next(sizes, limit)
+        d = bare(c)
         pairs += [(vi, d) for vi in which]
     if pairs:
         yield Batch(nc.name, k, method, clearance_m, vs, tuple(pairs),
@@ -263,11 +293,11 @@ def run_study(
             runs = sum(len(v) for v in allowed[nc.name].values())
             if not runs:
                 continue
-            shared = ex.share(nc.path) if method == "simulate" else None
+            shared = ex.share(nc.path)  # the workers build the areas from it
             t0 = time.perf_counter()
-            size = max(1, min(BATCH_RUNS, -(-runs // (2 * ex.workers))))
-            tasks = batches_of(nc, vehicles, method, clearance_m, fcd_dir, size,
-                               allowed[nc.name], use_sumo, swing)
+            tasks = batches_of(nc, vehicles, method, clearance_m, fcd_dir,
+                               batch_sizes(runs, ex.workers), allowed[nc.name], use_sumo,
+                               swing)
             for batch, recs in run_isolated(ex, run_batch, tasks, split_batch, lost_batch,
                                             shared):
                 records += recs

@@ -68,3 +68,31 @@ def test_a_worker_without_the_file_writes_the_sent_bytes(tmp_path):
     net = worker_network((str(missing), data))
     assert hashlib.sha256(open(net.path, "rb").read()).digest() == hashlib.sha256(data).digest()
     assert net.path != str(missing) and len(net.lanes) == len(read_network(NET).lanes)
+
+
+def test_a_worker_builds_the_areas_of_bare_curves_as_the_parent_does():
+    """A batch sends curves without areas (bare); the worker's areas are the parent's, and
+    so is every record, the conflict parts the exports draw included."""
+    import pickle
+
+    from reports.batch import bare, with_areas
+
+    net = read_network(NET)
+    parent = extract_curves(net)[:6]
+    sent = [bare(c) for c in parent]
+    assert all(c._own is None and c.area_book is None for c in sent)
+    assert len(pickle.dumps(sent)) < len(pickle.dumps([detached(c) for c in parent]))
+    with_areas(worker_network((str(NET), None)), sent)
+    for p, s in zip(parent, sent, strict=True):
+        for area in ("own_lanes", "roadway", "paved"):
+            assert getattr(s, area).wkb == getattr(p, area).wkb, (p.curve_id, area)
+    vehicles = tuple(load_tables(bundled_table_paths(), ["P"]).vehicles())
+    shared = (str(NET), None)
+    a = run_batch(Batch("x", 0, "simulate", 0.1, vehicles,
+                        tuple((0, c) for c in map(bare, parent))), shared)
+    b = run_batch(Batch("x", 0, "simulate", 0.1, vehicles,
+                        tuple((0, detached(c)) for c in parent)), shared)
+    assert [r.row() for r in a] == [r.row() for r in b]
+    for ra, rb in zip(a, b, strict=True):
+        assert ra.conflict is not None
+        assert [g.wkb for g in ra.conflict] == [g.wkb for g in rb.conflict]

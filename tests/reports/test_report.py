@@ -375,3 +375,30 @@ def test_embedded_figures_are_compact_copies(report):
     # what the page embeds is those copies, not the full figures
     sizes = sorted(len(base64.b64decode(e)) for e in embedded)
     assert sizes[-1] < max(p.stat().st_size for p in pngs)
+
+
+def test_a_report_drawn_in_workers_is_the_one_drawn_here(tmp_path):
+    """The curve figures, sheets and exports drawn in worker processes (clearance report)
+    are the same files, byte for byte, as those drawn in the report's own process."""
+    from reports.cmd_report import write_report
+    from reports.executor import LocalExecutor
+    from reports.study import run_study
+    from vehicles.table import bundled_table_paths, load_tables
+
+    tables = bundled_table_paths()
+    with LocalExecutor(2) as ex:
+        study = run_study([NET], load_tables(tables, VEHICLES), executor=ex)
+        (tmp_path / "workers").mkdir()
+        write_report(study, tmp_path / "workers", tables, executor=ex)
+    (tmp_path / "here").mkdir()
+    write_report(study, tmp_path / "here", tables)
+    here = sorted(p.relative_to(tmp_path / "here") for p in (tmp_path / "here").rglob("*")
+                  if p.is_file())
+    there = sorted(p.relative_to(tmp_path / "workers")
+                   for p in (tmp_path / "workers").rglob("*") if p.is_file())
+    assert here == there
+    assert sum(p.parts[0] == "figures" for p in here) >= 4
+    assert any(p.suffix == ".pdf" for p in here) and any(p.suffix == ".dxf" for p in here)
+    for rel in here:
+        assert (tmp_path / "workers" / rel).read_bytes() == (tmp_path / "here" / rel
+                                                             ).read_bytes(), rel

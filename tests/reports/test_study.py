@@ -76,3 +76,18 @@ def test_a_vehicles_verdicts_do_not_depend_on_the_others_in_the_table():
 
     assert len(p_rows(alone)) > 300
     assert p_rows(alone) == p_rows(both)
+
+
+def test_batch_sizes_shrink_toward_the_end_and_cover_every_run():
+    from reports.study import BATCH_RUNS, MIN_BATCH_RUNS, batch_sizes
+
+    for runs, workers in [(6000, 2), (6000, 1), (1000, 4), (73, 2), (1, 1)]:
+        sizes = list(batch_sizes(runs, workers))
+        assert sum(sizes) == runs
+        assert all(a >= b for a, b in zip(sizes, sizes[1:-1], strict=False))  # the last: rest
+        assert max(sizes) <= BATCH_RUNS
+        assert all(s >= MIN_BATCH_RUNS for s in sizes[:-1])
+        # the last batch in flight is no more than an even share of what was left
+        assert sizes[-1] <= max(MIN_BATCH_RUNS, -(-runs // (2 * workers)))
+    # a quarter of what is left, at most 400: 400 while 1,600 or more are left
+    assert list(batch_sizes(6000, 2))[:14] == [400] * 12 + [300, 225]
