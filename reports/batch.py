@@ -31,6 +31,7 @@ from networks.reader import Network, read_network
 from networks.sumo.driver import DrivenRun, DriveOptions, drive
 from reports.analytic import minimum_ctr_m, run_analytic
 from reports.executor import SharedFile
+from reports.feedback import set_overreach
 from reports.file_names import file_name
 from reports.records import RunRecord
 from vehicles.errors import InputError
@@ -235,7 +236,7 @@ def _driven_record(batch: Batch, r: DrivenRun) -> RunRecord:
         return error_record(batch.network, v, curve, "simulate", batch.clearance_m,
                             r.reason or "no result")
     nan = math.nan
-    return RunRecord(
+    rec = RunRecord(
         network=batch.network, vehicle=v.name, curve_id=curve.curve_id, kind=curve.kind,
         junction=curve.junction, verdict=r.verdict,
         margin_m=res.clearance.margin_m, paved_margin_m=res.clearance.paved_margin_m,
@@ -247,6 +248,8 @@ def _driven_record(batch: Batch, r: DrivenRun) -> RunRecord:
         method="simulate", clearance_m=batch.clearance_m, reason=r.reason,
         envelope=res.measured, lane_verdict=r.lane_verdict, lane_margin_m=r.lane_margin_m,
         path=r.path, encroaches_on=r.encroaches_on)
+    set_overreach(rec, curve)
+    return rec
 
 
 def _analytic(batch: Batch, items: Sequence[tuple[int, Curve]]) -> list[RunRecord]:
@@ -255,13 +258,15 @@ def _analytic(batch: Batch, items: Sequence[tuple[int, Curve]]) -> list[RunRecor
         v = batch.vehicles[vi]
         r = run_analytic(v, curve, batch.clearance_m)
         c = r.clearance
-        out.append(RunRecord(
+        rec = RunRecord(
             batch.network, v.name, curve.curve_id, curve.kind, curve.junction, c.verdict,
             c.margin_m, c.paved_margin_m, curve.min_radius_m, r.vehicle_min_radius_m,
             r.swept_width_m, curve.lane_width_m, r.max_offtracking_m, 0.0,
             curve.turn_angle_deg, curve.max_grade_pct, "analytic", batch.clearance_m,
             c.reason, r.envelope, lane_verdict=c.verdict, lane_margin_m=c.margin_m,
-            path="lane", encroaches_on=encroaches_on(c)))
+            path="lane", encroaches_on=encroaches_on(c))
+        set_overreach(rec, curve)
+        out.append(rec)
     return out
 
 

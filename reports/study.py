@@ -46,6 +46,7 @@ from networks.reader import Network, read_network
 from networks.selection import Selection, check_junctions, load_selected
 from reports.batch import Batch, detached, lost_batch, run_batch, split_batch
 from reports.executor import Executor, make_executor, run_isolated
+from reports.feedback import set_serves_up_to
 from reports.records import COLUMNS, VERDICT_ORDER, RunRecord
 from vehicles.errors import InputError
 from vehicles.table import VehicleTable
@@ -273,6 +274,7 @@ def run_study(
     curve_order = {(n.name, c.curve_id): i for n in nets for i, c in enumerate(n.curves)}
     records.sort(key=lambda r: (net_order[r.network], curve_order[(r.network, r.curve_id)],
                                 order[r.vehicle]))
+    set_serves_up_to(records, table)
     return Study(records, nets, table, method, clearance_m, sorted(refused))
 
 
