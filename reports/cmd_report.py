@@ -127,7 +127,8 @@ def drawn_geometry(study: Study, limit: int = DRAWN_RUNS
         by_id = {c.curve_id: c for c in nc.curves}
         for row in worst_by_curve(f).head(limit).itertuples():
             curve = by_id[row.curve_id]
-            [driven] = rerun(nc, curve, [vehicles[row.vehicle]], study.clearance_m)
+            [driven] = rerun(nc, curve, [vehicles[row.vehicle]], study.clearance_m,
+                             swing=row.path == "swung")
             out[(nc.name, row.vehicle, row.curve_id)] = run_geometry(curve, driven)
     return out
 
