@@ -19,6 +19,7 @@ from reports.atomic import write_text_atomic
 from reports.document import build_sections, html_document, markdown
 from reports.export_geojson import lonlat_transformer, parse_origin
 from reports.exports import EnvelopeRecord, conflict_parts
+from reports.feedback import overreach_point
 from reports.file_names import file_name
 from reports.options import (
     add_clearance_option,
@@ -153,7 +154,8 @@ def envelope_records(study: Study,
             offset_m=r.clearance_m, outside_lanes=outside_lanes,
             outside_pavement=outside_pavement,
             body_outlines=drawn.get((r.network, r.vehicle, r.curve_id), ((), ()))[0],
-            wheel_paths=drawn.get((r.network, r.vehicle, r.curve_id), ((), ()))[1]))
+            wheel_paths=drawn.get((r.network, r.vehicle, r.curve_id), ((), ()))[1],
+            overreach=overreach_point(r)))
     return out
 
 

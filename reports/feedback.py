@@ -24,6 +24,8 @@ from __future__ import annotations
 import math
 from collections.abc import Iterable, Sequence
 
+import pandas as pd
+
 from analysis.overreach import Overreach, worst_overreach
 from analysis.turning import turning_metrics
 from networks.curves import Curve
@@ -31,7 +33,8 @@ from reports.records import RunRecord
 from vehicles.table import VehicleTable
 
 __all__ = ["ENCROACHING", "SERVING", "beyond_words", "not_served_below", "overreach_of",
-           "overreach_words", "serves", "set_overreach", "set_serves_up_to", "size_order"]
+           "overreach_point", "overreach_words", "serves", "serves_counts", "serves_sentence",
+           "set_overreach", "set_serves_up_to", "size_order"]
 
 #: Verdicts with which a vehicle is served: clear, and on the pavement.
 SERVING = ("clear",)
@@ -156,3 +159,85 @@ def set_overreach(record: RunRecord, curve: Curve) -> None:
     record.overreach_y = round(o.y, 3)
     record.extra_width_m = o.extra_width_m
     record.reason = f"{record.reason}; {overreach_words(o, record.verdict)}"
+
+
+def serves_counts(frame: pd.DataFrame, order: Sequence[str]) -> list[tuple[str, int, int]]:
+    """Per vehicle of ``order`` (smallest first, ``""`` first for none): how many curves
+    of ``frame`` (``clearance.csv`` rows) it is the largest vehicle that clears, and that
+    stays paved on; vehicles no curve names are left out.
+
+    Examples
+    --------
+    >>> f = pd.DataFrame({"curve_id": ["a", "a", "b", "c"], "vehicle": ["P", "SU-30", "P", "P"],
+    ...                   "serves_up_to": ["P", "P", "", "P"],
+    ...                   "serves_encroaching_up_to": ["SU-30", "SU-30", "P", "P"]})
+    >>> serves_counts(f, ["P", "SU-30"])
+    [('', 1, 0), ('P', 2, 2), ('SU-30', 0, 1)]
+    """
+    per_curve = frame.drop_duplicates(["network", "curve_id"] if "network" in frame
+                                      else ["curve_id"])
+    clear = per_curve["serves_up_to"].fillna("").value_counts()
+    paved = per_curve["serves_encroaching_up_to"].fillna("").value_counts()
+    out = []
+    for name in ["", *order]:
+        a, b = int(clear.get(name, 0)), int(paved.get(name, 0))
+        if a or b:
+            out.append((name, a, b))
+    return out
+
+
+def serves_sentence(verdicts: dict[str, str], order: Sequence[str]) -> str:
+    """What a curve serves, in words (``verdicts`` by vehicle, ``order`` smallest first).
+
+    Examples
+    --------
+    >>> order = ["P", "SU-30", "WB-62"]
+    >>> print(serves_sentence({"P": "clear", "SU-30": "encroaches", "WB-62": "fails"}, order))
+    serves up to P (clear); up to SU-30 staying on the pavement (encroaching)
+    >>> print(serves_sentence({"P": "fails", "SU-30": "clear", "WB-62": "fails"}, order))
+    ... # doctest: +NORMALIZE_WHITESPACE
+    serves up to SU-30 (clear), though the smaller P does not clear it; no larger vehicle
+    stays on the pavement
+    >>> print(serves_sentence({"P": "fails"}, order))
+    serves no vehicle of the study: none clears it, none stays on the pavement
+    """
+    clear = serves(verdicts, order)
+    paved = serves(verdicts, order, ENCROACHING)
+    if not paved:
+        return "serves no vehicle of the study: none clears it, none stays on the pavement"
+    text = f"serves up to {clear} (clear)" if clear else "no vehicle of the study clears it"
+    gaps = not_served_below(verdicts, order, clear)
+    if gaps:
+        text += (f", though the smaller {', '.join(gaps)} "
+                 f"{'does' if len(gaps) == 1 else 'do'} not clear it")
+    if paved != clear:
+        text += f"; up to {paved} staying on the pavement (encroaching)"
+        gaps = [g for g in not_served_below(verdicts, order, paved, ENCROACHING)
+                if g not in not_served_below(verdicts, order, clear)]
+        if gaps:
+            verb = "leaves" if len(gaps) == 1 else "leave"
+            text += f", though the smaller {', '.join(gaps)} {verb} the pavement"
+    elif clear:
+        text += "; no larger vehicle stays on the pavement"
+    return text
+
+
+def overreach_point(record: RunRecord) -> tuple[float, float, float, float] | None:
+    """A record's worst overreach as the exports take it: ``(x, y, station_m,
+    extra_width_m)``, or None (a run clear, cannot-turn, error, or without one).
+
+    Examples
+    --------
+    >>> from types import SimpleNamespace as NS
+    >>> overreach_point(NS(overreach_x=1.0, overreach_y=2.0, overreach_station_m=3.0,
+    ...                    extra_width_m=0.4))
+    (1.0, 2.0, 3.0, 0.4)
+    >>> overreach_point(NS(overreach_x=math.nan, overreach_y=math.nan,
+    ...                    overreach_station_m=math.nan, extra_width_m=math.nan)) is None
+    True
+    """
+    values = (record.overreach_x, record.overreach_y, record.overreach_station_m,
+              record.extra_width_m)
+    if not all(math.isfinite(v) for v in values):
+        return None
+    return values
