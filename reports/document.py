@@ -269,7 +269,7 @@ def markdown(study: Study, sections: list[Section], folder: Path, units: str = "
                 continue
             lines += [f"### `{c.curve_id}`", ""]
             if c.serves:
-                lines += [f"This curve {c.serves}.", ""]
+                lines += [c.serves, ""]
             lines += [f"![{c.curve_id}]({_rel(c.figure, folder)})",
                       "", f"Every vehicle, worst first (the figure draws "
                       f"{counted(len(c.drawn), 'envelope')}):", ""]
@@ -555,7 +555,7 @@ def html_document(study: Study, sections: list[Section], units: str = "m",
                            for r in c.runs)
             head = f'<h4 id="{links[c.curve_id]}"><code>{e(c.curve_id)}</code></h4>'
             if c.serves:
-                head += f'<p class="serves">This curve {e(c.serves)}.</p>'
+                head += f'<p class="serves">{e(c.serves)}</p>'
             if c.figure is not None:
                 out.append(f"{head}<figure>{_img(c.figure, c.curve_id)}<figcaption>"
                            f"<code>{e(c.curve_id)}</code>, every vehicle worst first (the "

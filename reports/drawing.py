@@ -93,21 +93,20 @@ def is_swung(s: Shown) -> bool:
 
 
 def path_words(s: Shown, units: str = "m") -> str:
-    """The path a shown run took, for a legend or a sheet.
+    """The path a shown run took (its steered axle's), for a legend or a sheet.
 
     Examples
     --------
     >>> from types import SimpleNamespace as NS
     >>> rec = NS(vehicle="CITY-BUS", path="swung")
     >>> path_words(Shown(rec, "k", NS(result=1, path="swung", swing_m=1.5)))
-    'CITY-BUS: path taken, swung 1.50 m out of the lane (steered axle)'
+    'CITY-BUS: path taken, swung 1.50 m out'
     >>> path_words(Shown(NS(vehicle="P", path="lane"), "k"))
     'P: on the lane centre line'
     """
     d = s.driven
     if d is not None and is_swung(s):
-        return (f"{s.record.vehicle}: path taken, swung "
-                f"{length_text(d.swing_m, units)} out of the lane (steered axle)")
+        return f"{s.record.vehicle}: path taken, swung {length_text(d.swing_m, units)} out"
     if s.record.path == "swung":
         return f"{s.record.vehicle}: swung wide (not drawn again)"
     return f"{s.record.vehicle}: on the lane centre line"
@@ -383,7 +382,7 @@ def draw_run(ax: Axes, curve: Curve, s: Shown, units: str, bodies: int = 7,
         ax.plot(tr.xf_m, tr.yf_m, color="black", lw=0.5, ls="-", zorder=9)
         lane = np.asarray(curve.centerline)[:, :2]
         ax.plot(lane[:, 0], lane[:, 1], color=LANE_CENTRE[0], lw=LANE_CENTRE[1],
-                ls=LANE_CENTRE[2], zorder=9, gid="lane-centre-line")
+                ls=LANE_CENTRE[2], zorder=11, gid="lane-centre-line")
     else:
         ax.plot(tr.xf_m, tr.yf_m, color="black", lw=0.6, ls=(0, (8, 2)), zorder=9,
                 gid="path-followed")
@@ -504,13 +503,13 @@ def legend_handles(shown: Sequence[Shown], units: str, trailer: bool) -> list:
     swung = [s for s in shown if is_swung(s)]
     if len(swung) < len([s for s in shown if s.run is not None]) or not swung:
         h.append(Line2D([], [], color="black", lw=0.6, ls=(0, (8, 2)),
-                        label="path followed (steered axle), on the lane centre line"))
+                        label="path followed (steered axle)"))
     for s in swung:
         h.append(Line2D([], [], color=s.colour, lw=PATH_TAKEN, ls="-",
                         label=path_words(s, units)))
     if swung:
         h.append(Line2D([], [], color=LANE_CENTRE[0], lw=LANE_CENTRE[1], ls=LANE_CENTRE[2],
-                        label="lane centre line (the path not taken)"))
+                        label="lane centre line (not taken)"))
     offsets = {s.record.clearance_m for s in shown if s.record.clearance_m > 0}
     if offsets:
         h.append(Line2D([], [], color=grey, lw=0.7, ls=(0, (1, 1.5)),

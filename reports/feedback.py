@@ -193,19 +193,21 @@ def serves_sentence(verdicts: dict[str, str], order: Sequence[str]) -> str:
     --------
     >>> order = ["P", "SU-30", "WB-62"]
     >>> print(serves_sentence({"P": "clear", "SU-30": "encroaches", "WB-62": "fails"}, order))
-    serves up to P (clear); up to SU-30 staying on the pavement (encroaching)
+    Serves up to P (clear); up to SU-30 staying on the pavement (encroaching).
     >>> print(serves_sentence({"P": "fails", "SU-30": "clear", "WB-62": "fails"}, order))
     ... # doctest: +NORMALIZE_WHITESPACE
-    serves up to SU-30 (clear), though the smaller P does not clear it; no larger vehicle
-    stays on the pavement
+    Serves up to SU-30 (clear), though the smaller P does not clear it; no larger vehicle
+    stays on the pavement.
+    >>> print(serves_sentence({"P": "encroaches"}, order))
+    No vehicle of the study clears it; up to P staying on the pavement (encroaching).
     >>> print(serves_sentence({"P": "fails"}, order))
-    serves no vehicle of the study: none clears it, none stays on the pavement
+    Serves no vehicle of the study: none clears it, none stays on the pavement.
     """
     clear = serves(verdicts, order)
     paved = serves(verdicts, order, ENCROACHING)
     if not paved:
-        return "serves no vehicle of the study: none clears it, none stays on the pavement"
-    text = f"serves up to {clear} (clear)" if clear else "no vehicle of the study clears it"
+        return "Serves no vehicle of the study: none clears it, none stays on the pavement."
+    text = f"Serves up to {clear} (clear)" if clear else "No vehicle of the study clears it"
     gaps = not_served_below(verdicts, order, clear)
     if gaps:
         text += (f", though the smaller {', '.join(gaps)} "
@@ -219,7 +221,7 @@ def serves_sentence(verdicts: dict[str, str], order: Sequence[str]) -> str:
             text += f", though the smaller {', '.join(gaps)} {verb} the pavement"
     elif clear:
         text += "; no larger vehicle stays on the pavement"
-    return text
+    return text + "."
 
 
 def overreach_point(record: RunRecord) -> tuple[float, float, float, float] | None:

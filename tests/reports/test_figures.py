@@ -139,9 +139,8 @@ def test_a_swung_run_is_drawn_on_its_path_with_the_lane_line_dashed_beside_it(st
     assert apart >= 0.5 * shown.driven.swing_m  # off the lane line (it swung out)
     assert "path-followed" not in lines  # a lane run's dashed path is not drawn too
     labels = [h.get_label() for h in handles]
-    assert f"{rec.vehicle}: path taken, swung {shown.driven.swing_m:.2f} m out of the lane " \
-           "(steered axle)" in labels
-    assert "lane centre line (the path not taken)" in labels
+    assert f"{rec.vehicle}: path taken, swung {shown.driven.swing_m:.2f} m out" in labels
+    assert "lane centre line (not taken)" in labels
     dashed = next(h for h in handles if h.get_label().startswith("lane centre line"))
     assert dashed.get_linestyle() == "--"
     # a run on its lane keeps the one dashed path followed
@@ -152,4 +151,4 @@ def test_a_swung_run_is_drawn_on_its_path_with_the_lane_line_dashed_beside_it(st
                                                         study.table), "m")
     gids = {ln.get_gid() for ln in ax.get_lines()}
     assert "path-followed" in gids and "lane-centre-line" not in gids
-    assert not any("path not taken" in h.get_label() for h in handles)
+    assert not any("not taken" in h.get_label() for h in handles)
