@@ -53,7 +53,8 @@ def size_order(table: VehicleTable) -> list[str]:
     """
     metrics = turning_metrics(table)
     lengths = {v.name: v.overall_length_m for v in table.vehicles()}
-    keyed = [(float(d), lengths[name], i, name)
+    # a diameter that is not a number (no lock data) sorts last, by length among those
+    keyed = [(float(d) if math.isfinite(float(d)) else math.inf, lengths[name], i, name)
              for i, (name, d) in enumerate(zip(metrics["vehicle"], metrics["curb_to_curb_m"],
                                                strict=True))]
     return [name for *_, name in sorted(keyed)]
