@@ -81,6 +81,9 @@ class Section:
     #: the largest that clears, curves it is the largest that stays paved on
     #: (:func:`reports.feedback.serves_counts`), smallest vehicle first.
     serves: list[tuple[str, int, int]] = field(default_factory=list)
+    #: Swung runs on the curves without a section of their own (they clear with room to
+    #: spare, but only by swinging wide): said in words under the matrix.
+    swung: list = field(default_factory=list)
 
 
 def build_sections(study: Study, folder: Path, units: str = "m",
@@ -148,6 +151,9 @@ def build_sections(study: Study, folder: Path, units: str = "m",
             recs.sort(key=lambda r: (VERDICT_ORDER[r.verdict], r.margin_m))
             section.curves.append(CurveEntry(cid, None, recs, [], serves_text(recs)))
         section.serves = serves_counts(f, order)
+        listed = {c.curve_id for c in section.curves}
+        section.swung = [r for r in study.records if r.network == nc.name
+                         and r.path == "swung" and r.curve_id not in listed]
         section.n_vehicles = f.vehicle.nunique()
         section.n_curves = len(nc.curves)
         sections.append(section)
@@ -275,6 +281,10 @@ def markdown(study: Study, sections: list[Section], folder: Path, units: str = "
                       f"{counted(len(c.drawn), 'envelope')}):", ""]
             lines += [f"- {_md_cell(run_words(r, units))}"
                       + (" (drawn)" if r.vehicle in c.drawn else "") for r in c.runs]
+            lines.append("")
+        if s.swung:
+            lines += [f"### Swung paths on the other curves ({len(s.swung)})", ""]
+            lines += [f"- `{r.curve_id}`: {_md_cell(run_words(r, units))}" for r in s.swung]
             lines.append("")
         if s.omitted:
             lines += [f"({s.omitted} more failing or tight curves are in the matrix and "
@@ -564,6 +574,12 @@ def html_document(study: Study, sections: list[Section], units: str = "m",
             else:
                 out.append(f"{head}<p>No figure (beyond the first {MAX_CURVE_FIGURES} of "
                            f"the network); every vehicle worst first:</p><ul>{runs}</ul>")
+        if s.swung:
+            out.append(f"<h3>Swung paths on the other curves ({len(s.swung)})</h3><p>Runs "
+                       "that clear with room to spare only by swinging wide:</p><ul>"
+                       + "".join(f"<li><code>{e(r.curve_id)}</code>: "
+                                 f"{e(run_words(r, units))}</li>" for r in s.swung)
+                       + "</ul>")
         out.append('<p><a href="#top">Back to the contents</a></p>')
     out.append('<h2 id="files">Files</h2><ul>'
                "<li><code>clearance.csv</code>: one row per network × vehicle × curve</li>"

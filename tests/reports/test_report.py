@@ -130,9 +130,9 @@ def test_the_report_says_every_swung_path_and_what_each_curve_serves(report, row
         by_curve.setdefault(r["curve_id"], []).append(r)
     for r in swung:
         assert r["reason"].startswith("swings ") and " m out" in r["reason"]
-        if r["curve_id"] in text:  # a failing or tight curve: its section lists every run
-            assert f"{r['vehicle']}: {r['verdict']}" in text
-            assert r["reason"] in " ".join(text.split())
+        # in its curve's section, or (a curve clear with room to spare) under the matrix
+        assert f"{r['vehicle']}: {r['verdict']}" in text
+        assert r["reason"] in " ".join(text.split())
     for r in rows:
         if r["verdict"] in ("fails", "encroaches"):
             assert float(r["extra_width_m"]) >= -float(
