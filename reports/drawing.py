@@ -37,6 +37,7 @@ from matplotlib.patches import Patch, Polygon
 from shapely.geometry.base import BaseGeometry
 
 from analysis.envelope import body_corners
+from analysis.overreach import worst_overreach
 from analysis.tracking import TrackingRun
 from analysis.trailer import hitch_point
 from networks.curves import Curve
@@ -176,10 +177,12 @@ def stop_point(run: TrackingRun) -> tuple[float, float]:
     return float(tr.xf_m[i]), float(tr.yf_m[i])
 
 
-def overreach(measured: BaseGeometry, area: BaseGeometry, step_m: float = 0.1
+def overreach(measured: BaseGeometry, area: BaseGeometry
               ) -> tuple[np.ndarray, np.ndarray, float] | None:
-    """The point of ``measured`` farthest outside ``area``, the nearest point of ``area``
-    to it and their distance; ``None`` when nothing lies outside.
+    """The point of ``measured`` farthest outside ``area`` (the worst overreach of
+    :func:`analysis.overreach.worst_overreach`, the point ``clearance.csv`` gives), the
+    nearest point of ``area`` to it and their distance; ``None`` when nothing lies outside
+    (or only slivers under :data:`MIN_CONFLICT_M2`).
 
     Examples
     --------
@@ -189,17 +192,12 @@ def overreach(measured: BaseGeometry, area: BaseGeometry, step_m: float = 0.1
     >>> overreach(shapely.box(0, 0, 1, 1), shapely.box(-1, -1, 2, 2)) is None
     True
     """
-    outside = shapely.difference(measured, area)
-    if outside.is_empty or outside.area < MIN_CONFLICT_M2:
+    o = worst_overreach(measured, area, min_area_m2=MIN_CONFLICT_M2)
+    if o is None:
         return None
-    pts = shapely.get_coordinates(shapely.segmentize(outside.boundary, step_m))
-    d = cast("np.ndarray", shapely.distance(shapely.points(pts), area))  # one per point
-    i = int(np.argmax(d))
-    if d[i] <= 0:
-        return None
-    line = shapely.shortest_line(shapely.Point(pts[i]), area.boundary)
+    line = shapely.shortest_line(shapely.Point(o.x, o.y), area.boundary)
     a, b = np.asarray(line.coords)
-    return a, b, float(d[i])
+    return a, b, o.distance_m
 
 
 def view_bounds(curve: Curve, shown: Sequence[Shown], pad_m: float = 6.0,
