@@ -23,9 +23,11 @@ import pandas as pd
 from reports.feedback import serves_counts, serves_sentence, size_order
 from reports.figures import COLOURS, plot_curve, plot_network, worst_by_curve
 from reports.file_names import file_name
+from reports.profile_figure import VerticalEntry, vertical_entries
 from reports.study import VERDICT_ORDER, Study
 from reports.text_table import counted
 from reports.units import length_scale
+from reports.vertical import vertical_words
 from reports.waivers import Waived
 
 __all__ = ["CSS", "CurveEntry", "HTML_IMAGE_COLOURS", "HTML_IMAGE_WIDTH_PX", "MATRIX_VEHICLES",
@@ -77,6 +79,8 @@ class Section:
     n_curves: int = 0
     #: Waived runs: curve id, vehicle, verdict, margin (m), reason, waiver's file:line.
     waived: list[tuple[str, str, str, float, str, str]] = field(default_factory=list)
+    #: The vertical checks: curves where a run scrapes or is too steep, and ramps.
+    vertical: list[VerticalEntry] = field(default_factory=list)
     #: Curves by the largest vehicle they serve: vehicle (``""``: none), curves it is
     #: the largest that clears, curves it is the largest that stays paved on
     #: (:func:`reports.feedback.serves_counts`), smallest vehicle first.
@@ -150,6 +154,9 @@ def build_sections(study: Study, folder: Path, units: str = "m",
             recs = [r for r in study.records if r.network == nc.name and r.curve_id == cid]
             recs.sort(key=lambda r: (VERDICT_ORDER[r.verdict], r.margin_m))
             section.curves.append(CurveEntry(cid, None, recs, [], serves_text(recs)))
+        section.vertical = vertical_entries(
+            nc.curves, [r for r in study.records if r.network == nc.name],
+            {v.name: v for v in study.table.vehicles()}, figs, nc.name, units)
         section.serves = serves_counts(f, order)
         listed = {c.curve_id for c in section.curves}
         section.swung = [r for r in study.records if r.network == nc.name
@@ -282,6 +289,15 @@ def markdown(study: Study, sections: list[Section], folder: Path, units: str = "
             lines += [f"- {_md_cell(run_words(r, units))}"
                       + (" (drawn)" if r.vehicle in c.drawn else "") for r in c.runs]
             lines.append("")
+        if s.vertical:
+            lines += ["### Vertical checks", ""]
+            for v in s.vertical:
+                lines += [f"#### `{v.curve_id}` (vertical)", ""]
+                if v.figure is not None:
+                    lines += [f"![{v.curve_id} profile]({_rel(v.figure, folder)})", ""]
+                lines += [f"- {r.vehicle}: {_md_cell(vertical_words(r, units) or 'clear')}"
+                          for r in v.runs]
+                lines.append("")
         if s.swung:
             lines += [f"### Swung paths on the other curves ({len(s.swung)})", ""]
             lines += [f"- `{r.curve_id}`: {_md_cell(run_words(r, units))}" for r in s.swung]
@@ -480,6 +496,28 @@ def _matrix_html(s: Section, links: dict[str, str]) -> list[str]:
     return out
 
 
+def _vertical_html(s: Section, units: str) -> list[str]:
+    """The section's vertical checks: each curve's profile figure and its runs' findings."""
+    e = html.escape
+    out = [f'<h3 id="{anchor(s.name)}-vertical">Vertical checks</h3>']
+    if not s.vertical:
+        return out + ["<p>No run scrapes or is too steep, and the network has no ramp.</p>"]
+    out.append("<p>Beside each run's plan verdict: whether the body clears the ground at "
+               "crests (the underside between the axles) and sags (the front and rear "
+               "overhangs), and the grade against the limit; the figure draws the worst "
+               "vehicle at its worst placement.</p>")
+    for v in s.vertical:
+        runs = "".join(f"<li>{e(r.vehicle)}: {e(vertical_words(r, units) or 'clear')}</li>"
+                       for r in v.runs)
+        head = f"<h4><code>{e(v.curve_id)}</code> (vertical)</h4>"
+        if v.figure is not None:
+            out.append(f"{head}<figure>{_img(v.figure, v.curve_id + ' profile')}"
+                       f"<figcaption><ul>{runs}</ul></figcaption></figure>")
+        else:
+            out.append(f"{head}<ul>{runs}</ul>")
+    return out
+
+
 def html_document(study: Study, sections: list[Section], units: str = "m",
                   exports: dict[str, dict[str, str]] | None = None) -> str:
     """``report.html``: one self-contained file (figures embedded, compact, no external
@@ -574,6 +612,7 @@ def html_document(study: Study, sections: list[Section], units: str = "m",
             else:
                 out.append(f"{head}<p>No figure (beyond the first {MAX_CURVE_FIGURES} of "
                            f"the network); every vehicle worst first:</p><ul>{runs}</ul>")
+        out += _vertical_html(s, units)
         if s.swung:
             out.append(f"<h3>Swung paths on the other curves ({len(s.swung)})</h3><p>Runs "
                        "that clear with room to spare only by swinging wide:</p><ul>"

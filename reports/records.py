@@ -22,6 +22,7 @@ COLUMNS = ["network", "vehicle", "curve_id", "kind", "junction", "verdict", "mar
            "available_width_m", "max_offtracking_m", "max_tracking_error_m", "turn_angle_deg",
            "max_grade_pct", "method", "clearance_m", "lane_verdict", "lane_margin_m", "path",
            "encroaches_on", "reason",
+           "vertical", "vertical_margin_m", "vertical_station_m", "vertical_part", "grade_limit_pct", "suspect_elevation",  # noqa: E501 - vertical checks
            "serves_up_to", "serves_encroaching_up_to", "overreach_station_m", "overreach_x",
            "overreach_y", "extra_width_m"]
 
@@ -64,6 +65,16 @@ class RunRecord:
     #: What the path's envelope encroaches on: ``same-direction lanes``, ``opposing
     #: lanes``, ``shoulder`` (beyond the paved area), or empty.
     encroaches_on: str = ""
+    #: The vertical finding (:mod:`reports.vertical`): ``clear``, ``scrapes``, ``too-steep``
+    #: or ``scrapes, too-steep``; the least gap under the body (m, negative: into the
+    #: ground), where (m from the feature's start) and which part; the grade limit applied
+    #: (percent, NaN: none); the curve's suspect heights (``""``: none).
+    vertical: str = ""
+    vertical_margin_m: float = math.nan
+    vertical_station_m: float = math.nan
+    vertical_part: str = ""
+    grade_limit_pct: float = math.nan
+    suspect_elevation: str = ""
     #: Design feedback (:mod:`reports.feedback`): the largest vehicle of the study that
     #: clears this curve, and that stays paved on it (clear or encroaches); ``""``: none.
     serves_up_to: str = ""
