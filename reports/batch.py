@@ -40,6 +40,7 @@ from networks.sumo.driver import DrivenRun, DriveOptions, drive
 from reports.analytic import minimum_ctr_m, run_analytic
 from reports.executor import SharedFile
 from reports.exports import conflict_parts
+from reports.feedback import set_overreach
 from reports.file_names import file_name
 from reports.records import RunRecord
 from vehicles.errors import InputError
@@ -276,7 +277,7 @@ def _driven_record(batch: Batch, r: DrivenRun) -> RunRecord:
         return error_record(batch.network, v, curve, "simulate", batch.clearance_m,
                             r.reason or "no result")
     nan = math.nan
-    return RunRecord(
+    rec = RunRecord(
         network=batch.network, vehicle=v.name, curve_id=curve.curve_id, kind=curve.kind,
         junction=curve.junction, verdict=r.verdict,
         margin_m=res.clearance.margin_m, paved_margin_m=res.clearance.paved_margin_m,
@@ -289,6 +290,8 @@ def _driven_record(batch: Batch, r: DrivenRun) -> RunRecord:
         envelope=res.measured, lane_verdict=r.lane_verdict, lane_margin_m=r.lane_margin_m,
         path=r.path, encroaches_on=r.encroaches_on,
         conflict=_conflict(res.measured, curve))
+    set_overreach(rec, curve)
+    return rec
 
 
 def _conflict(envelope: BaseGeometry | None, curve: Curve
@@ -305,14 +308,16 @@ def _analytic(batch: Batch, items: Sequence[tuple[int, Curve]]) -> list[RunRecor
         v = batch.vehicles[vi]
         r = run_analytic(v, curve, batch.clearance_m)
         c = r.clearance
-        out.append(RunRecord(
+        rec = RunRecord(
             batch.network, v.name, curve.curve_id, curve.kind, curve.junction, c.verdict,
             c.margin_m, c.paved_margin_m, curve.min_radius_m, r.vehicle_min_radius_m,
             r.swept_width_m, curve.lane_width_m, r.max_offtracking_m, 0.0,
             curve.turn_angle_deg, curve.max_grade_pct, "analytic", batch.clearance_m,
             c.reason, r.envelope, lane_verdict=c.verdict, lane_margin_m=c.margin_m,
             path="lane", encroaches_on=encroaches_on(c),
-            conflict=_conflict(r.envelope, curve)))
+            conflict=_conflict(r.envelope, curve))
+        set_overreach(rec, curve)
+        out.append(rec)
     return out
 
 

@@ -39,6 +39,7 @@ from reports.document import (
 from reports.executor import Executor, SharedFile, make_executor
 from reports.export_geojson import lonlat_transformer, parse_origin
 from reports.exports import EnvelopeRecord, conflict_parts
+from reports.feedback import overreach_point
 from reports.figures import CurveFigure, draw_curve_figure, scratch_files, worst_by_curve
 from reports.file_names import file_name
 from reports.options import (
@@ -151,7 +152,8 @@ def drawn_geometry(study: Study, limit: int = DRAWN_RUNS
         by_id = {c.curve_id: c for c in nc.curves}
         for row in worst_by_curve(f).head(limit).itertuples():
             curve = by_id[row.curve_id]
-            [driven] = rerun(nc, curve, [vehicles[row.vehicle]], study.clearance_m)
+            [driven] = rerun(nc, curve, [vehicles[row.vehicle]], study.clearance_m,
+                             swing=row.path == "swung")
             out[(nc.name, row.vehicle, row.curve_id)] = run_geometry(curve, driven)
     return out
 
@@ -179,7 +181,8 @@ def envelope_records(study: Study,
             offset_m=r.clearance_m, outside_lanes=outside_lanes,
             outside_pavement=outside_pavement,
             body_outlines=drawn.get((r.network, r.vehicle, r.curve_id), ((), ()))[0],
-            wheel_paths=drawn.get((r.network, r.vehicle, r.curve_id), ((), ()))[1]))
+            wheel_paths=drawn.get((r.network, r.vehicle, r.curve_id), ((), ()))[1],
+            overreach=overreach_point(r)))
     return out
 
 

@@ -22,6 +22,7 @@ from pathlib import Path
 import pandas as pd
 
 from networks.curves import Curve
+from reports.feedback import serves_counts, serves_sentence, size_order
 from reports.figures import COLOURS, plot_curve, plot_network, worst_by_curve
 from reports.file_names import file_name
 from reports.profile_figure import VerticalEntry, vertical_entries
@@ -33,9 +34,9 @@ from reports.vertical import vertical_words
 from reports.waivers import Waived
 
 __all__ = ["COMPACT_MADE", "CSS", "CurveEntry", "HTML_IMAGE_COLOURS", "HTML_IMAGE_WIDTH_PX",
-           "MATRIX_VEHICLES", "MAX_CURVE_FIGURES", "MAX_ENVELOPES", "SYMBOL", "Section",
-           "TIGHT_M", "anchor", "build_sections", "compact_key", "compact_png", "html_document",
-           "margin_words", "markdown", "pick_envelopes", "run_words"]
+           "MATRIX_VEHICLES", "MAX_CURVE_FIGURES", "MAX_ENVELOPES", "SERVES_NOTE", "SYMBOL",
+           "Section", "TIGHT_M", "anchor", "build_sections", "compact_key", "compact_png",
+           "html_document", "margin_words", "markdown", "pick_envelopes", "run_words"]
 
 #: A curve is *tight* when its smallest margin is below this (m) though clear.
 TIGHT_M = 0.25
@@ -56,6 +57,8 @@ class CurveEntry:
     figure: Path | None
     runs: list  # RunRecord, worst first
     drawn: list[str]  # the vehicles the figure shows
+    #: What the curve serves, in words (:func:`reports.feedback.serves_sentence`).
+    serves: str = ""
 
 
 @dataclass
@@ -80,6 +83,13 @@ class Section:
     waived: list[tuple[str, str, str, float, str, str]] = field(default_factory=list)
     #: The vertical checks: curves where a run scrapes or is too steep, and ramps.
     vertical: list[VerticalEntry] = field(default_factory=list)
+    #: Curves by the largest vehicle they serve: vehicle (``""``: none), curves it is
+    #: the largest that clears, curves it is the largest that stays paved on
+    #: (:func:`reports.feedback.serves_counts`), smallest vehicle first.
+    serves: list[tuple[str, int, int]] = field(default_factory=list)
+    #: Swung runs on the curves without a section of their own (they clear with room to
+    #: spare, but only by swinging wide): said in words under the matrix.
+    swung: list = field(default_factory=list)
 
 
 def build_sections(study: Study, folder: Path, units: str = "m",
@@ -101,6 +111,11 @@ def build_sections(study: Study, folder: Path, units: str = "m",
     scale = length_scale(units)
     figs = folder / "figures"
     frame = study.frame()
+    order = size_order(study.table)
+
+    def serves_text(recs: list) -> str:
+        return serves_sentence({r.vehicle: r.verdict for r in recs if r.verdict != "error"},
+                               order)
     sections = []
     for nc in study.networks:
         f = frame[frame.network == nc.name]
@@ -142,14 +157,19 @@ def build_sections(study: Study, folder: Path, units: str = "m",
             caption = ", ".join(f"{r.vehicle} {r.verdict} ({r.margin_m / scale:+.2f} {units})"
                                 for r in shown)
             section.curve_figures.append((cid, png, caption))
-            section.curves.append(CurveEntry(cid, png, recs, [r.vehicle for r in shown]))
+            section.curves.append(CurveEntry(cid, png, recs, [r.vehicle for r in shown],
+                                             serves_text(recs)))
         for cid in [c for c in worst.curve_id if c in bad][len(picked):]:
             recs = [r for r in study.records if r.network == nc.name and r.curve_id == cid]
             recs.sort(key=lambda r: (VERDICT_ORDER[r.verdict], r.margin_m))
-            section.curves.append(CurveEntry(cid, None, recs, []))
+            section.curves.append(CurveEntry(cid, None, recs, [], serves_text(recs)))
         section.vertical = vertical_entries(
             nc.curves, [r for r in study.records if r.network == nc.name],
             {v.name: v for v in study.table.vehicles()}, figs, nc.name, units)
+        section.serves = serves_counts(f, order)
+        listed = {c.curve_id for c in section.curves}
+        section.swung = [r for r in study.records if r.network == nc.name
+                         and r.path == "swung" and r.curve_id not in listed]
         section.n_vehicles = f.vehicle.nunique()
         section.n_curves = len(nc.curves)
         sections.append(section)
@@ -224,6 +244,12 @@ def markdown(study: Study, sections: list[Section], folder: Path, units: str = "
                   "| " + " | ".join(s.counts) + " |", "|" + "---|" * len(s.counts),
                   "| " + " | ".join(str(v) for v in s.counts.values()) + " |", "",
                   f"![plan of {s.name}]({_rel(s.plan, folder)})", ""]
+        if s.serves:
+            lines += [f"Design feedback: curves by what they serve up to ({SERVES_NOTE}).", "",
+                      "| vehicle | curves it is the largest to clear | to stay paved on |",
+                      "|---|---|---|"]
+            lines += [f"| {_md_cell(name)} | {a} | {b} |" for name, a, b in _serves_rows(s)]
+            lines.append("")
         worst = []
         for i, r in enumerate(s.worst.head(8).itertuples(), start=1):
             if r.verdict == "clear" and r.margin_m > TIGHT_M:
@@ -263,7 +289,10 @@ def markdown(study: Study, sections: list[Section], folder: Path, units: str = "
         for c in s.curves:
             if c.figure is None:
                 continue
-            lines += [f"### `{c.curve_id}`", "", f"![{c.curve_id}]({_rel(c.figure, folder)})",
+            lines += [f"### `{c.curve_id}`", ""]
+            if c.serves:
+                lines += [c.serves, ""]
+            lines += [f"![{c.curve_id}]({_rel(c.figure, folder)})",
                       "", f"Every vehicle, worst first (the figure draws "
                       f"{counted(len(c.drawn), 'envelope')}):", ""]
             lines += [f"- {_md_cell(run_words(r, units))}"
@@ -278,6 +307,10 @@ def markdown(study: Study, sections: list[Section], folder: Path, units: str = "
                 lines += [f"- {r.vehicle}: {_md_cell(vertical_words(r, units) or 'clear')}"
                           for r in v.runs]
                 lines.append("")
+        if s.swung:
+            lines += [f"### Swung paths on the other curves ({len(s.swung)})", ""]
+            lines += [f"- `{r.curve_id}`: {_md_cell(run_words(r, units))}" for r in s.swung]
+            lines.append("")
         if s.omitted:
             lines += [f"({s.omitted} more failing or tight curves are in the matrix and "
                       "in clearance.csv, without a figure.)", ""]
@@ -311,11 +344,16 @@ def margin_words(m: float, units: str = "m", what: str = "its lanes") -> str:
 
 
 def run_words(r, units: str = "m") -> str:
-    """One run for a caption: vehicle, verdict, lane margin and paved margin in words."""
+    """One run for a caption: vehicle, verdict, lane margin and paved margin in words, and
+    for a swung or not clear run its reason (the path it took, how far it reaches beyond
+    which area, where the worst overreach is and the extra width there)."""
     paved = getattr(r, "paved_margin_m", math.nan)
     text = f"{r.vehicle}: {r.verdict}, {margin_words(r.margin_m, units)}"
     if math.isfinite(paved):
         text += f", {margin_words(paved, units, 'the pavement')}"
+    reason = getattr(r, "reason", "")
+    if reason and (getattr(r, "path", "lane") == "swung" or r.verdict != "clear"):
+        text += f": {reason}"
     return text
 
 
@@ -439,6 +477,24 @@ def _summary_html(s: Section, units: str) -> str:
     return f'<p class="summary">{text}.</p>'
 
 
+SERVES_NOTE = ("the largest vehicle of the study (by curb-to-curb turning diameter) that "
+               "clears the curve, and that stays on the pavement (clear or encroaching); a "
+               "smaller vehicle may still not clear it (the curve's section says so)")
+
+
+def _serves_rows(s: Section) -> list[tuple[str, int, int]]:
+    return [(name or "none", a, b) for name, a, b in s.serves]
+
+
+def _serves_html(s: Section) -> str:
+    e = html.escape
+    rows = "".join(f'<tr><td class="id">{e(name)}</td><td>{a}</td><td>{b}</td></tr>'
+                   for name, a, b in _serves_rows(s))
+    return (f"<p>Design feedback: curves by what they serve up to ({SERVES_NOTE}).</p>"
+            '<table><tr><th class="id">vehicle</th><th>curves it is the largest to clear'
+            "</th><th>to stay paved on</th></tr>" + rows + "</table>")
+
+
 def _matrix_html(s: Section, links: dict[str, str]) -> list[str]:
     e = html.escape
     out = []
@@ -526,6 +582,8 @@ def html_document(study: Study, sections: list[Section], units: str = "m",
         links = {c.curve_id: anchor(s.name, c.curve_id) for c in s.curves}
         out.append(f'<h2 id="{net}">{e(s.name)}</h2>')
         out.append(_summary_html(s, units))
+        if s.serves:
+            out.append(_serves_html(s))
         out.append("<table><tr>" + "".join(f"<th>{e(k)}</th>" for k in s.counts)
                    + "</tr><tr>" + "".join(f"<td>{v}</td>" for v in s.counts.values())
                    + "</tr></table>")
@@ -573,6 +631,8 @@ def html_document(study: Study, sections: list[Section], units: str = "m",
                            + (" (drawn)" if r.vehicle in c.drawn else "") + "</li>"
                            for r in c.runs)
             head = f'<h4 id="{links[c.curve_id]}"><code>{e(c.curve_id)}</code></h4>'
+            if c.serves:
+                head += f'<p class="serves">{e(c.serves)}</p>'
             if c.figure is not None:
                 out.append(f"{head}<figure>{_img(c.figure, c.curve_id)}<figcaption>"
                            f"<code>{e(c.curve_id)}</code>, every vehicle worst first (the "
@@ -582,6 +642,12 @@ def html_document(study: Study, sections: list[Section], units: str = "m",
                 out.append(f"{head}<p>No figure (beyond the first {MAX_CURVE_FIGURES} of "
                            f"the network); every vehicle worst first:</p><ul>{runs}</ul>")
         out += _vertical_html(s, units)
+        if s.swung:
+            out.append(f"<h3>Swung paths on the other curves ({len(s.swung)})</h3><p>Runs "
+                       "that clear with room to spare only by swinging wide:</p><ul>"
+                       + "".join(f"<li><code>{e(r.curve_id)}</code>: "
+                                 f"{e(run_words(r, units))}</li>" for r in s.swung)
+                       + "</ul>")
         out.append('<p><a href="#top">Back to the contents</a></p>')
     out.append('<h2 id="files">Files</h2><ul>'
                "<li><code>clearance.csv</code>: one row per network × vehicle × curve</li>"

@@ -37,6 +37,7 @@ from matplotlib.patches import Patch, Polygon
 from shapely.geometry.base import BaseGeometry
 
 from analysis.envelope import body_corners
+from analysis.overreach import worst_overreach
 from analysis.tracking import TrackingRun
 from analysis.trailer import hitch_point
 from networks.curves import Curve
@@ -48,10 +49,11 @@ from reports.study import NetworkCurves
 from reports.units import length_scale
 from vehicles.vehicle import Vehicle
 
-__all__ = ["BADGE", "MIN_CONFLICT_M2", "OUTSIDE_LANES", "OUTSIDE_PAVEMENT", "OWN_LANES", "Shown",
-           "VERDICT_STYLE", "badge_text", "dimension", "draw_bodies", "draw_curve", "draw_run",
-           "legend_handles", "length_text", "overreach", "rerun", "run_geometry", "stop_point",
-           "stop_words", "view_bounds"]
+__all__ = ["BADGE", "LANE_CENTRE", "MIN_CONFLICT_M2", "OUTSIDE_LANES", "OUTSIDE_PAVEMENT",
+           "OWN_LANES", "PATH_TAKEN", "Shown", "VERDICT_STYLE", "badge_text", "dimension",
+           "draw_bodies", "draw_curve", "draw_run", "is_swung", "legend_handles", "length_text",
+           "overreach", "path_words", "rerun", "run_geometry", "stop_point", "stop_words",
+           "view_bounds"]
 
 #: Envelope outline by verdict (the verdict is told by line style and badge, not fill).
 VERDICT_STYLE = {"clear": ("-", 1.1), "encroaches": ((0, (5, 2)), 1.4),
@@ -66,6 +68,10 @@ OUTSIDE_PAVEMENT = ("xxxx", "#c0392b")
 OWN_LANES = "#2471a3"
 #: Conflict pieces smaller than this (m²) are slivers of the polygon arithmetic.
 MIN_CONFLICT_M2 = 0.005
+#: A swung run: the path its steered axle took (line width; solid, in the vehicle's colour
+#: with a dark core), and the lane's centre line it left (colour, width, dashes).
+PATH_TAKEN = 2.2
+LANE_CENTRE = ("#5d6d7e", 1.0, (0, (5, 3)))
 
 
 @dataclass
@@ -82,14 +88,40 @@ class Shown:
         return None if d is None or d.result is None else d.result.run
 
 
-def rerun(nc: NetworkCurves, curve: Curve, vehicles: Sequence[Vehicle], clearance_m: float
-          ) -> list[DrivenRun]:
+def is_swung(s: Shown) -> bool:
+    """Whether a shown run's drawing is of a swung path (:mod:`networks.sumo.swing`)."""
+    return s.driven is not None and s.driven.result is not None and s.driven.path == "swung"
+
+
+def path_words(s: Shown, units: str = "m") -> str:
+    """The path a shown run took (its steered axle's), for a legend or a sheet.
+
+    Examples
+    --------
+    >>> from types import SimpleNamespace as NS
+    >>> rec = NS(vehicle="CITY-BUS", path="swung")
+    >>> path_words(Shown(rec, "k", NS(result=1, path="swung", swing_m=1.5)))
+    'CITY-BUS: path taken, swung 1.50 m out'
+    >>> path_words(Shown(NS(vehicle="P", path="lane"), "k"))
+    'P: on the lane centre line'
+    """
+    d = s.driven
+    if d is not None and is_swung(s):
+        return f"{s.record.vehicle}: path taken, swung {length_text(d.swing_m, units)} out"
+    if s.record.path == "swung":
+        return f"{s.record.vehicle}: swung wide (not drawn again)"
+    return f"{s.record.vehicle}: on the lane centre line"
+
+
+def rerun(nc: NetworkCurves, curve: Curve, vehicles: Sequence[Vehicle], clearance_m: float,
+          swing: bool = True) -> list[DrivenRun]:
     """The runs of ``vehicles`` on ``curve`` again, model only (same trajectory, envelope
-    and verdict as the study's, SUMO left out)."""
+    and verdict as the study's, SUMO left out); ``swing`` as the study's (``False`` for a
+    ``--lane-only`` study, or where none of the runs took a swung path)."""
     if not vehicles:
         return []
     return drive(nc.network, [(v, curve) for v in vehicles],
-                 options=DriveOptions(use_sumo=False, offset_m=clearance_m))
+                 options=DriveOptions(use_sumo=False, offset_m=clearance_m, swing=swing))
 
 
 def length_text(value_m: float, units: str, digits: int = 2) -> str:
@@ -145,10 +177,12 @@ def stop_point(run: TrackingRun) -> tuple[float, float]:
     return float(tr.xf_m[i]), float(tr.yf_m[i])
 
 
-def overreach(measured: BaseGeometry, area: BaseGeometry, step_m: float = 0.1
+def overreach(measured: BaseGeometry, area: BaseGeometry
               ) -> tuple[np.ndarray, np.ndarray, float] | None:
-    """The point of ``measured`` farthest outside ``area``, the nearest point of ``area``
-    to it and their distance; ``None`` when nothing lies outside.
+    """The point of ``measured`` farthest outside ``area`` (the worst overreach of
+    :func:`analysis.overreach.worst_overreach`, the point ``clearance.csv`` gives), the
+    nearest point of ``area`` to it and their distance; ``None`` when nothing lies outside
+    (or only slivers under :data:`MIN_CONFLICT_M2`).
 
     Examples
     --------
@@ -158,17 +192,12 @@ def overreach(measured: BaseGeometry, area: BaseGeometry, step_m: float = 0.1
     >>> overreach(shapely.box(0, 0, 1, 1), shapely.box(-1, -1, 2, 2)) is None
     True
     """
-    outside = shapely.difference(measured, area)
-    if outside.is_empty or outside.area < MIN_CONFLICT_M2:
+    o = worst_overreach(measured, area, min_area_m2=MIN_CONFLICT_M2)
+    if o is None:
         return None
-    pts = shapely.get_coordinates(shapely.segmentize(outside.boundary, step_m))
-    d = cast("np.ndarray", shapely.distance(shapely.points(pts), area))  # one per point
-    i = int(np.argmax(d))
-    if d[i] <= 0:
-        return None
-    line = shapely.shortest_line(shapely.Point(pts[i]), area.boundary)
+    line = shapely.shortest_line(shapely.Point(o.x, o.y), area.boundary)
     a, b = np.asarray(line.coords)
-    return a, b, float(d[i])
+    return a, b, o.distance_m
 
 
 def view_bounds(curve: Curve, shown: Sequence[Shown], pad_m: float = 6.0,
@@ -344,7 +373,17 @@ def draw_run(ax: Axes, curve: Curve, s: Shown, units: str, bodies: int = 7,
             ax.plot(xy[:, 0], xy[:, 1], color=colour, lw=0.7, ls=style, zorder=9)
     if tr.xt_m is not None and tr.yt_m is not None:
         ax.plot(tr.xt_m, tr.yt_m, color=colour, lw=0.7, ls=(0, (6, 1.5, 1, 1.5)), zorder=9)
-    ax.plot(tr.xf_m, tr.yf_m, color="black", lw=0.6, ls=(0, (8, 2)), zorder=9)
+    if is_swung(s):
+        # the path taken, and the lane's centre line it left, dashed beside it
+        ax.plot(tr.xf_m, tr.yf_m, color=colour, lw=PATH_TAKEN, ls="-", zorder=9,
+                solid_capstyle="butt", gid="path-taken")
+        ax.plot(tr.xf_m, tr.yf_m, color="black", lw=0.5, ls="-", zorder=9)
+        lane = np.asarray(curve.centerline)[:, :2]
+        ax.plot(lane[:, 0], lane[:, 1], color=LANE_CENTRE[0], lw=LANE_CENTRE[1],
+                ls=LANE_CENTRE[2], zorder=11, gid="lane-centre-line")
+    else:
+        ax.plot(tr.xf_m, tr.yf_m, color="black", lw=0.6, ls=(0, (8, 2)), zorder=9,
+                gid="path-followed")
     draw_bodies(ax, run, colour, bodies)
     if dimensions:
         _dimensions(ax, curve, s, units)
@@ -391,10 +430,18 @@ def _dimensions(ax: Axes, curve: Curve, s: Shown, units: str) -> None:
 
 
 def badge_text(rec: RunRecord, units: str) -> str:
-    """``WB-67  FAILS  −6.45 m`` (the margin to its own lanes)."""
+    """``WB-67  FAILS  −6.45 m`` (the margin to its own lanes; ``, swung`` on a swung path).
+
+    Examples
+    --------
+    >>> from types import SimpleNamespace as NS
+    >>> badge_text(NS(vehicle="P", verdict="encroaches", margin_m=-0.8, path="swung"), "m")
+    'P  ENCROACHES  -0.80 m, swung'
+    """
     m = rec.margin_m
     margin = "" if not math.isfinite(m) else f"  {m / length_scale(units):+.2f} {units}"
-    return f"{rec.vehicle}  {rec.verdict.upper()}{margin}"
+    swung = ", swung" if getattr(rec, "path", "lane") == "swung" else ""
+    return f"{rec.vehicle}  {rec.verdict.upper()}{margin}{swung}"
 
 
 def draw_curve(ax: Axes, nc: NetworkCurves, curve: Curve, shown: Sequence[Shown],
@@ -451,8 +498,16 @@ def legend_handles(shown: Sequence[Shown], units: str, trailer: bool) -> list:
                      label="inner trailer wheel path"),
               Line2D([], [], color=grey, lw=0.7, ls=(0, (6, 1.5, 1, 1.5)),
                      label="trailer axle path")]
-    h.append(Line2D([], [], color="black", lw=0.6, ls=(0, (8, 2)),
-                    label="path followed (steered axle)"))
+    swung = [s for s in shown if is_swung(s)]
+    if len(swung) < len([s for s in shown if s.run is not None]) or not swung:
+        h.append(Line2D([], [], color="black", lw=0.6, ls=(0, (8, 2)),
+                        label="path followed (steered axle)"))
+    for s in swung:
+        h.append(Line2D([], [], color=s.colour, lw=PATH_TAKEN, ls="-",
+                        label=path_words(s, units)))
+    if swung:
+        h.append(Line2D([], [], color=LANE_CENTRE[0], lw=LANE_CENTRE[1], ls=LANE_CENTRE[2],
+                        label="lane centre line (not taken)"))
     offsets = {s.record.clearance_m for s in shown if s.record.clearance_m > 0}
     if offsets:
         h.append(Line2D([], [], color=grey, lw=0.7, ls=(0, (1, 1.5)),

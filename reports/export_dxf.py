@@ -16,6 +16,8 @@ layer                      holds
 ``P-CONFLICT-LANE``        the part outside the own lanes but paved (hatched)
 ``P-CONFLICT-PAVEMENT``    the part outside the pavement (hatched)
 ``P-LABEL``                the curve id of each envelope
+``P-OVERREACH``            a run not clear: a point at its worst overreach and the extra
+                           width needed there (``+0.56 m``)
 =========================  ===============================================================
 
 Envelopes are closed LWPOLYLINEs (exteriors and holes), coloured by verdict (AutoCAD colour
@@ -71,6 +73,7 @@ VEHICLE_LAYERS = {
     "CONFLICT-LANE": (30, "outside its own lanes, on the pavement"),
     "CONFLICT-PAVEMENT": (1, "outside the pavement"),
     "LABEL": (7, "curve ids"),
+    "OVERREACH": (1, "worst overreach of each run not clear (point, extra width needed)"),
 }
 #: Base plan drawn this far around the envelopes (m).
 BASE_MARGIN_M = 30.0
@@ -288,7 +291,7 @@ def write_dxf(path: str | os.PathLike[str], records: Iterable[EnvelopeRecord],
         ("CLEARANCE-ENVELOPE", r.offset_m > 0),
         ("CONFLICT-LANE", _has_area(r.outside_lanes)),
         ("CONFLICT-PAVEMENT", _has_area(r.outside_pavement)),
-        ("LABEL", True)) if present}
+        ("LABEL", True), ("OVERREACH", r.overreach is not None)) if present}
     for vehicle, prefix in layers.items():
         for suffix, (colour, description) in VEHICLE_LAYERS.items():
             if (vehicle, suffix) in used:
@@ -334,6 +337,15 @@ def write_dxf(path: str | os.PathLike[str], records: Iterable[EnvelopeRecord],
                                 dxfattribs={"layer": f"{prefix}-LABEL", "color": colour})
             text.set_placement((p.x, p.y), align=TextEntityAlignment.MIDDLE_CENTER)
             text.set_xdata(APPID, tags)
+        if r.overreach is not None:
+            x, y, station, extra = (float(v) for v in r.overreach)
+            point = msp.add_point((x, y), dxfattribs={"layer": f"{prefix}-OVERREACH",
+                                                      "color": colour})
+            point.set_xdata(APPID, tags + [(1000, f"station_m={station:.3f}"),
+                                           (1000, f"extra_width_m={extra:.3f}")])
+            label = msp.add_text(f"+{extra:.2f} m", height=TEXT_HEIGHT_M,
+                                 dxfattribs={"layer": f"{prefix}-OVERREACH", "color": colour})
+            label.set_placement((x, y), align=TextEntityAlignment.BOTTOM_LEFT)
 
     return write_text_atomic(path, _reproducible_text(doc))
 

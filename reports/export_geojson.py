@@ -15,6 +15,7 @@ in its top-level ``coordinate_system`` member (a foreign member, RFC 7946 sectio
 from __future__ import annotations
 
 import json
+import math
 import os
 from collections.abc import Iterable, Mapping
 from pathlib import Path
@@ -163,6 +164,35 @@ def _polygon(
     return rings  # type: ignore[return-value]
 
 
+def _overreach_feature(r: EnvelopeRecord, offset: tuple[float, float],
+                       transformer: pyproj.Transformer | None) -> dict[str, Any]:
+    """A Point Feature at a record's worst overreach, with the design feedback."""
+    x, y, station, extra = (float(v) for v in r.overreach or (math.nan,) * 4)
+    if transformer is None:
+        coords = [round(x, M_DIGITS) + 0.0, round(y, M_DIGITS) + 0.0]
+    else:
+        lon, lat = transformer.transform(x - offset[0], y - offset[1])
+        if not (math.isfinite(lon) and math.isfinite(lat) and abs(lon) <= 180
+                and abs(lat) <= 90):
+            raise InputError(f"record {r.label}: the network's projection gives no valid "
+                             "longitude/latitude for its worst overreach")
+        coords = [round(float(lon), DEG_DIGITS) + 0.0, round(float(lat), DEG_DIGITS) + 0.0]
+    properties = {
+        "network": r.network,
+        "vehicle": r.vehicle,
+        "curve_id": r.curve_id,
+        "kind": r.kind,
+        "verdict": r.verdict,
+        "feature": "worst overreach",
+        "beyond": "paved area" if r.verdict == "fails" else "own lanes",
+        "margin_m": r.margin_mm,
+        "station_m": round(station, M_DIGITS) + 0.0,
+        "extra_width_m": round(extra, M_DIGITS) + 0.0,
+    }
+    return {"type": "Feature", "geometry": {"type": "Point", "coordinates": coords},
+            "properties": properties}
+
+
 def write_geojson(
     path: str | os.PathLike[str],
     records: Iterable[EnvelopeRecord],
@@ -195,7 +225,11 @@ def write_geojson(
     else local SUMO metres (rounded to 1 mm); the top-level ``coordinate_system`` member
     says which, and ``networks`` gives each network's ``net_offset`` and ``proj_parameter``.
     Feature properties: network, vehicle, curve_id, kind, verdict and margin_m (m, rounded to
-    1 mm; null when there is none). Exterior rings are counter-clockwise, holes clockwise.
+    1 mm; null when there is none). After the envelopes, a Point Feature at the worst
+    overreach of each record that has one (:attr:`~reports.exports.EnvelopeRecord.overreach`),
+    with ``feature`` ``"worst overreach"``, ``beyond`` (``paved area`` or ``own lanes``),
+    ``station_m`` (along the curve's centre line) and ``extra_width_m``. Exterior rings are
+    counter-clockwise, holes clockwise.
     Keys are sorted and there is no timestamp: identical inputs give identical bytes.
 
     Raises
@@ -239,6 +273,11 @@ def write_geojson(
             "margin_m": r.margin_mm,
         }
         features.append({"type": "Feature", "geometry": geometry, "properties": properties})
+    # the worst overreach of each run not clear, as points after the envelopes
+    for r in recs:
+        if r.overreach is not None:
+            features.append(_overreach_feature(r, locations[r.network].net_offset,
+                                               transformers[r.network]))
 
     networks = {
         n: {

@@ -85,6 +85,10 @@ class EnvelopeRecord:
         Outlines of the vehicle body (Polygons) at intervals along the path, when known.
     wheel_paths
         Paths of the wheels that bound the sweep (LineStrings), when known.
+    overreach
+        A run not clear: ``(x, y, station_m, extra_width_m)`` of its worst overreach
+        (:mod:`reports.feedback`: beyond the paved area for ``fails``, its own lanes for
+        ``encroaches``), in the envelope's coordinates; None otherwise.
     """
 
     network: str
@@ -100,6 +104,7 @@ class EnvelopeRecord:
     outside_pavement: Any = None
     body_outlines: tuple[Any, ...] = ()
     wheel_paths: tuple[Any, ...] = ()
+    overreach: tuple[float, float, float, float] | None = None
 
     @property
     def label(self) -> str:
@@ -152,6 +157,15 @@ def _check(record: EnvelopeRecord) -> None:
         offset = math.nan
     if not (math.isfinite(offset) and offset >= 0):
         raise InputError(f"record {record.label}: offset_m {record.offset_m!r} must be >= 0")
+    if record.overreach is not None:
+        try:
+            ok = len(record.overreach) == 4 and all(math.isfinite(float(v))
+                                                    for v in record.overreach)
+        except (TypeError, ValueError):
+            ok = False
+        if not ok:
+            raise InputError(f"record {record.label}: overreach must be four finite numbers "
+                             f"(x, y, station_m, extra_width_m), got {record.overreach!r}")
     extras = [record.body_envelope, record.outside_lanes, record.outside_pavement,
               *record.body_outlines, *record.wheel_paths]
     for g in extras:

@@ -22,7 +22,9 @@ COLUMNS = ["network", "vehicle", "curve_id", "kind", "junction", "verdict", "mar
            "available_width_m", "max_offtracking_m", "max_tracking_error_m", "turn_angle_deg",
            "max_grade_pct", "method", "clearance_m", "lane_verdict", "lane_margin_m", "path",
            "encroaches_on", "reason",
-           "vertical", "vertical_margin_m", "vertical_station_m", "vertical_part", "grade_limit_pct", "suspect_elevation"]  # noqa: E501 - vertical checks
+           "vertical", "vertical_margin_m", "vertical_station_m", "vertical_part", "grade_limit_pct", "suspect_elevation",  # noqa: E501 - vertical checks
+           "serves_up_to", "serves_encroaching_up_to", "overreach_station_m", "overreach_x",
+           "overreach_y", "extra_width_m"]
 
 #: Verdicts worst first, as ranks: ``error`` (a run the tool or SUMO could not complete; its
 #: reason says why) before the run verdicts of :data:`analysis.clearance.VERDICTS`, which
@@ -78,6 +80,17 @@ class RunRecord:
     #: worker); ``None`` when not computed.
     conflict: tuple[BaseGeometry | None, BaseGeometry | None] | None = field(
         default=None, repr=False)
+    #: Design feedback (:mod:`reports.feedback`): the largest vehicle of the study that
+    #: clears this curve, and that stays paved on it (clear or encroaches); ``""``: none.
+    serves_up_to: str = ""
+    serves_encroaching_up_to: str = ""
+    #: A run not clear: its worst overreach (beyond the paved area for ``fails``, its own
+    #: lanes for ``encroaches``): station along the curve's centre line (m), network x, y
+    #: (m), and the extra width that area needs there (m); NaN otherwise.
+    overreach_station_m: float = math.nan
+    overreach_x: float = math.nan
+    overreach_y: float = math.nan
+    extra_width_m: float = math.nan
 
     def row(self) -> dict[str, object]:
         """The record's values by :data:`COLUMNS`."""

@@ -31,7 +31,16 @@ from matplotlib.patches import Rectangle
 from analysis.turning import centre_line_radius
 from networks.curves import Curve
 from reports.atomic import write_bytes_atomic
-from reports.drawing import BADGE, Shown, draw_curve, length_text, rerun, stop_words, view_bounds
+from reports.drawing import (
+    BADGE,
+    Shown,
+    draw_curve,
+    length_text,
+    path_words,
+    rerun,
+    stop_words,
+    view_bounds,
+)
 from reports.file_names import file_name
 from reports.plotting import STYLE, vehicle_colours
 from reports.records import VERDICT_ORDER, RunRecord
@@ -142,9 +151,19 @@ def verdict_rows(s: Shown, units: str) -> list[tuple[str, str]]:
             ("largest offtracking", L(r.max_offtracking_m)),
             ("largest tracking error", L(r.max_tracking_error_m)),
             ("clearance offset", L(r.clearance_m)), ("method", r.method)]
+    rows.append(("path", path_words(s, units).split(": ", 1)[1]))
     run = s.run
     why = stop_words(run, units) if run is not None and run.reason else r.reason
     rows.append(("why", why or "-"))
+    extra = getattr(r, "extra_width_m", math.nan)
+    if math.isfinite(extra):
+        beyond = "the pavement" if r.verdict == "fails" else "its own lanes"
+        rows.append(("worst overreach", f"station {L(r.overreach_station_m)} (x "
+                     f"{r.overreach_x:.2f}, y {r.overreach_y:.2f}): {beyond} needs {L(extra)} "
+                     "more width there"))
+    served = getattr(r, "serves_up_to", "")
+    rows.append(("curve serves up to", f"{served or 'no vehicle of the study'} (clear), "
+                 f"{getattr(r, 'serves_encroaching_up_to', '') or 'none'} (stays paved)"))
     return rows
 
 
@@ -255,7 +274,7 @@ def network_sheets(study: Study, nc: NetworkCurves, tables: Sequence[Path],
         if not group:  # analytic runs: drawn by their envelopes alone
             continue
         runs = rerun(nc, by_curve[cid], [by_name[s.record.vehicle] for s in group],
-                     study.clearance_m)
+                     study.clearance_m, swing=any(s.record.path == "swung" for s in group))
         for s, d in zip(group, runs, strict=True):
             s.driven = d
     head = title_rows(nc, tables)

@@ -47,6 +47,7 @@ from networks.reader import Network, read_network
 from networks.selection import Selection, check_junctions, load_selected
 from reports.batch import Batch, bare, lost_batch, run_batch, split_batch
 from reports.executor import Executor, make_executor, run_isolated
+from reports.feedback import set_serves_up_to
 from reports.records import COLUMNS, VERDICT_ORDER, RunRecord
 from reports.vertical import add_vertical
 from vehicles.errors import InputError
@@ -315,6 +316,7 @@ def run_study(
                                 order[r.vehicle]))
     add_vertical(records, {(n.name, c.curve_id): c for n in nets for c in n.curves},
                  vehicles, max_grade_pct)
+    set_serves_up_to(records, table)
     return Study(records, nets, table, method, clearance_m, sorted(refused), max_grade_pct)
 
 

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import datetime
 import doctest
 import importlib
@@ -381,3 +382,40 @@ def test_dxf_layer_names_are_sanitised():
 def test_docstring_examples(name: str):
     failures, tried = doctest.testmod(importlib.import_module(name))
     assert tried > 0 and failures == 0
+
+
+# --------------------------------------------------------------------------- worst overreach
+
+
+def _with_overreach() -> list[EnvelopeRecord]:
+    recs = records()
+    recs[1] = dataclasses.replace(recs[1], overreach=(407.95, 2.67, 38.5, 0.16))
+    return recs
+
+
+def test_geojson_and_dxf_mark_the_worst_overreach_as_a_point(tmp_path: Path):
+    doc = json.loads(write_geojson(tmp_path / "a.geojson", _with_overreach(),
+                                   {"intersection": LOCAL}).read_text(encoding="utf-8"))
+    points = [f for f in doc["features"] if f["geometry"]["type"] == "Point"]
+    assert len(doc["features"]) == 4 and doc["features"][-1] is points[0]
+    assert points[0]["geometry"]["coordinates"] == [407.95, 2.67]
+    assert points[0]["properties"] == {
+        "network": "intersection", "vehicle": NASTY, "curve_id": ":T_1_0", "kind": "turn",
+        "verdict": "encroaches", "feature": "worst overreach", "beyond": "own lanes",
+        "margin_m": -0.123, "station_m": 38.5, "extra_width_m": 0.16}
+    path = write_dxf(tmp_path / "a.dxf", _with_overreach())
+    msp = ezdxf.readfile(path).modelspace()
+    layer = f"{dxf_layer_name(NASTY)}-OVERREACH"
+    [point] = msp.query(f'POINT[layer=="{layer}"]')
+    assert tuple(point.dxf.location)[:2] == pytest.approx((407.95, 2.67))
+    assert [t.dxf.text for t in msp.query(f'TEXT[layer=="{layer}"]')] == ["+0.16 m"]
+    # no overreach, no point and no layer
+    assert not ezdxf.readfile(write_dxf(tmp_path / "b.dxf", records())).modelspace().query(
+        "POINT")
+
+
+def test_an_overreach_that_is_not_four_finite_numbers_is_refused(tmp_path: Path):
+    bad = records()
+    bad[1] = dataclasses.replace(bad[1], overreach=(1.0, math.nan, 2.0, 0.1))
+    with pytest.raises(InputError, match="overreach must be four finite numbers"):
+        write_geojson(tmp_path / "a.geojson", bad, {"intersection": LOCAL})

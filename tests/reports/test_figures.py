@@ -115,3 +115,40 @@ def test_overreach_is_the_margin_beyond_the_area():
     a, b, d = overreach(env, area)
     assert d == pytest.approx(0.7, abs=0.01)
     assert tuple(np.round(b, 6)) == (8.0, 3.5)
+
+
+def test_a_swung_run_is_drawn_on_its_path_with_the_lane_line_dashed_beside_it(study):
+    nc = study.networks[0]
+    swung = [r for r in study.records if r.path == "swung"]
+    assert swung, "the sample's junction T has swung runs (WB-67 at the tight corners)"
+    rec = swung[0]
+    curve = next(c for c in nc.curves if c.curve_id == rec.curve_id)
+    [shown] = shown_runs(nc, curve, [rec], study.table)
+    assert shown.driven.path == "swung" and shown.driven.swing_m > 0
+    fig, ax = new_figure()
+    handles = draw_curve(ax, nc, curve, [shown], "m")
+    lines = {ln.get_gid(): ln for ln in ax.get_lines() if ln.get_gid()}
+    taken, lane = lines["path-taken"], lines["lane-centre-line"]
+    assert taken.get_linestyle() == "-" and lane.get_linestyle() == "--"
+    # the path taken is the steered axle's, off the lane line by about the swing
+    tr = shown.run.trajectory
+    assert np.allclose(taken.get_xydata(), np.c_[tr.xf_m, tr.yf_m])
+    assert np.allclose(lane.get_xydata(), curve.centerline[:, :2])
+    line = shapely.LineString(curve.centerline[:, :2])
+    apart = max(line.distance(shapely.Point(p)) for p in taken.get_xydata())
+    assert apart >= 0.5 * shown.driven.swing_m  # off the lane line (it swung out)
+    assert "path-followed" not in lines  # a lane run's dashed path is not drawn too
+    labels = [h.get_label() for h in handles]
+    assert f"{rec.vehicle}: path taken, swung {shown.driven.swing_m:.2f} m out" in labels
+    assert "lane centre line (not taken)" in labels
+    dashed = next(h for h in handles if h.get_label().startswith("lane centre line"))
+    assert dashed.get_linestyle() == "--"
+    # a run on its lane keeps the one dashed path followed
+    lane_rec = next(r for r in study.records if r.path == "lane" and r.verdict != "error")
+    lane_curve = next(c for c in nc.curves if c.curve_id == lane_rec.curve_id)
+    fig, ax = new_figure()
+    handles = draw_curve(ax, nc, lane_curve, shown_runs(nc, lane_curve, [lane_rec],
+                                                        study.table), "m")
+    gids = {ln.get_gid() for ln in ax.get_lines()}
+    assert "path-followed" in gids and "lane-centre-line" not in gids
+    assert not any("not taken" in h.get_label() for h in handles)

@@ -121,6 +121,32 @@ def test_html_contents_links_and_captions(report, rows):
     assert len(text.encode()) < 1_000_000
 
 
+def test_the_report_says_every_swung_path_and_what_each_curve_serves(report, rows):
+    text = html.unescape(re.sub(r"<[^>]+>", " ", (report / "report.html").read_text()))
+    swung = [r for r in rows if r["path"] == "swung"]
+    assert swung, "the sample has swung runs"
+    by_curve: dict[str, list[dict[str, str]]] = {}
+    for r in rows:
+        by_curve.setdefault(r["curve_id"], []).append(r)
+    for r in swung:
+        assert r["reason"].startswith("swings ") and " m out" in r["reason"]
+        # in its curve's section, or (a curve clear with room to spare) under the matrix
+        assert f"{r['vehicle']}: {r['verdict']}" in text
+        assert r["reason"] in " ".join(text.split())
+    for r in rows:
+        if r["verdict"] in ("fails", "encroaches"):
+            assert float(r["extra_width_m"]) >= -float(
+                r["paved_margin_m"] if r["verdict"] == "fails" else r["margin_m"])
+            assert "worst at station" in r["reason"]
+        else:
+            assert r["extra_width_m"] == r["overreach_x"] == ""
+    # the designed corner of the four-leg junction: the car clears it, the bus fails
+    corner = by_curve["turn:X:XN_in_0->XW_out_0"]
+    assert {r["serves_up_to"] for r in corner} == {"P"}
+    assert "Serves up to P (clear)" in text
+    assert "Design feedback: curves by what they serve up to" in text
+
+
 def test_markdown_links_its_figures(report):
     md = (report / "report.md").read_text()
     links = re.findall(r"!\[[^\]]*\]\(([^)]+)\)", md)
@@ -135,8 +161,15 @@ def test_geojson_is_valid(report, rows):
     gj = json.loads((report / "exports" / "intersection.local-metres.geojson").read_text())
     assert gj["type"] == "FeatureCollection"
     assert "local metres" in gj["coordinate_system"] and "crs" not in gj
-    assert len(gj["features"]) == len(rows)
-    for f in gj["features"]:
+    envelopes = [f for f in gj["features"] if f["geometry"]["type"] != "Point"]
+    points = [f for f in gj["features"] if f["geometry"]["type"] == "Point"]
+    assert len(envelopes) == len(rows)
+    # a point at the worst overreach of every run that fails or encroaches
+    not_clear = {(r["vehicle"], r["curve_id"]) for r in rows
+                 if r["verdict"] in ("fails", "encroaches")}
+    assert {(f["properties"]["vehicle"], f["properties"]["curve_id"]) for f in points} == \
+        not_clear and len(points) == len(not_clear)
+    for f in envelopes:
         assert f["type"] == "Feature"
         assert f["geometry"]["type"] in ("Polygon", "MultiPolygon")
         polys = (f["geometry"]["coordinates"] if f["geometry"]["type"] == "MultiPolygon"
@@ -221,10 +254,14 @@ def test_origin_places_a_network_without_projection(tmp_path):
     geod = pyproj.Geod(ellps="WGS84")
     assert len(gj["features"]) == len(plain["features"]) > 0
     for f, g in zip(gj["features"], plain["features"], strict=True):
-        lon, lat = f["geometry"]["coordinates"][0][0] if f["geometry"]["type"] == "Polygon" \
-            else f["geometry"]["coordinates"][0][0][0]
-        x, y = g["geometry"]["coordinates"][0][0] if g["geometry"]["type"] == "Polygon" \
-            else g["geometry"]["coordinates"][0][0][0]
+        def first(geometry):  # a vertex: of a Point, a Polygon or a MultiPolygon
+            c = geometry["coordinates"]
+            if geometry["type"] == "Point":
+                return c
+            return c[0][0] if geometry["type"] == "Polygon" else c[0][0][0]
+        assert f["geometry"]["type"] == g["geometry"]["type"]
+        lon, lat = first(f["geometry"])
+        x, y = first(g["geometry"])
         # a vertex's distance from the origin is its distance from the input's 0,0
         azimuth, _, dist = geod.inv(11.575, 48.137, lon, lat)
         assert dist == pytest.approx(math.hypot(x - off[0], y - off[1]), abs=0.05)
