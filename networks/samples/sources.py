@@ -20,7 +20,10 @@ import numpy as np
 __all__ = ["Corners", "HELIX_LANE_M", "HELIX_RADIUS_M", "HELIX_RISE_PER_TURN_M", "HELIX_TURNS",
            "INTERSECTION_CORNERS", "Point", "ROUNDABOUTS", "RingDesign", "SAMPLES_DIR",
            "TEE_TIGHT_CORNER_M", "TEE_WIDE_CORNER_M", "WRITERS", "arc", "fmt", "four_leg", "main",
-           "ring", "tee", "write_intersection", "write_parking_ramp", "write_roundabout"]
+           "ring", "tee", "write_garage", "write_helix", "write_intersection", "write_parking_ramp",
+           "write_roundabout", "GARAGE_AISLE_M", "GARAGE_DECK_M", "GARAGE_RADIUS_M",
+           "GARAGE_RAMP_M", "GARAGE_STOREY_M", "LEVEL_HELIX_LANE_M", "LEVEL_HELIX_RADIUS_M",
+           "LEVEL_HELIX_RISE_PER_TURN_M", "LEVEL_HELIX_TURNS"]
 
 SAMPLES_DIR = Path(__file__).resolve().parent
 
@@ -431,10 +434,127 @@ def write_parking_ramp(directory: Path) -> None:
     _write(directory, "parking_ramp", nodes, edges)
 
 
+# --------------------------------------------------------------------------- helix
+
+#: The ``helix`` sample (issue 17): three turns of radius 9 m, 3.5 m lane, 3.2 m per turn.
+LEVEL_HELIX_RADIUS_M = 9.0
+LEVEL_HELIX_RISE_PER_TURN_M = 3.2
+LEVEL_HELIX_TURNS = 3
+LEVEL_HELIX_LANE_M = 3.5
+
+
+def _helix_points(
+    centre: tuple[float, float], radius_m: float, a0_deg: float, turn_deg: float,
+    z0_m: float, z1_m: float, step_deg: float = 5.0,
+) -> list[Point]:
+    """Points of a helix (an arc whose z rises linearly from ``z0_m`` to ``z1_m``).
+
+    Examples
+    --------
+    >>> [tuple(round(v, 3) for v in p) for p in _helix_points((0, 0), 2.0, 0, 180, 0, 1, 90)]
+    [(2.0, 0.0, 0.0), (0.0, 2.0, 0.5), (-2.0, 0.0, 1.0)]
+    """
+    n = max(int(math.ceil(abs(turn_deg) / step_deg)), 1)
+    a = np.linspace(a0_deg, a0_deg + turn_deg, n + 1)
+    z = np.linspace(z0_m, z1_m, n + 1)
+    return [(centre[0] + radius_m * math.cos(math.radians(t)),
+             centre[1] + radius_m * math.sin(math.radians(t)), float(h)) for t, h in zip(a, z)]
+
+
+def write_helix(directory: Path) -> None:
+    """The ``helix`` sample: a one-way helix of :data:`LEVEL_HELIX_TURNS` turns, in and out
+    by straights. It starts and ends heading east at the bottom of its circle, so that in
+    plan its turns lie on each other and the exit straight lies over the first turn's
+    start, one storey per turn above it."""
+    r, lead = LEVEL_HELIX_RADIUS_M, 15.0
+    top = LEVEL_HELIX_RISE_PER_TURN_M * LEVEL_HELIX_TURNS
+    helix = _helix_points((0.0, 0.0), r, -90.0, 360.0 * LEVEL_HELIX_TURNS, 0.0, top)
+    pts = [(-lead, -r, 0.0), *helix, (lead, -r, top)]
+    nodes = [
+        f'<node id="A" x="{-lead - 30:.3f}" y="{-r:.3f}" z="0"/>',
+        f'<node id="H0" x="{-lead:.3f}" y="{-r:.3f}" z="0"/>',
+        f'<node id="H1" x="{lead:.3f}" y="{-r:.3f}" z="{top:.3f}"/>',
+        f'<node id="B" x="{lead + 30:.3f}" y="{-r:.3f}" z="{top:.3f}"/>',
+    ]
+    attrs = f'numLanes="1" width="{LEVEL_HELIX_LANE_M}" speed="4.17" spreadType="center"'
+    edges = [
+        f'<edge id="approach" from="A" to="H0" {attrs}/>',
+        f'<edge id="helix" from="H0" to="H1" {attrs} shape="{fmt(pts)}"/>',
+        f'<edge id="exit" from="H1" to="B" {attrs}/>',
+    ]
+    _write(directory, "helix", nodes, edges)
+
+
+# --------------------------------------------------------------------------- garage
+
+#: The ``garage`` sample (issue 17): storey height, the lanes' widths, the turnaround's radius.
+GARAGE_STOREY_M = 3.0
+GARAGE_AISLE_M = 6.5
+GARAGE_DECK_M = 3.0
+GARAGE_RAMP_M = 3.5
+GARAGE_RADIUS_M = 9.0
+
+
+def _teardrop(radius_m: float, step_deg: float = 5.0) -> list[tuple[float, float]]:
+    """A turnaround from (0, 0) heading east back to (0, 0) heading west: right 60 degrees,
+    left 300 degrees, right 60 degrees, all of ``radius_m`` (its neck is the origin).
+
+    Examples
+    --------
+    >>> t = _teardrop(9.0)
+    >>> [round(v, 6) + 0.0 for v in t[0] + t[-1]]
+    [0.0, 0.0, 0.0, 0.0]
+    """
+    r = radius_m
+    a = arc((0.0, -r), r, 90.0, 30.0, step_deg)
+    b = arc((math.sqrt(3.0) * r, 0.0), r, 210.0, 510.0, step_deg)
+    c = arc((0.0, r), r, -30.0, -90.0, step_deg)
+    return [*a, *b[1:], *c[1:]]
+
+
+def write_garage(directory: Path) -> None:
+    """The ``garage`` sample: a wide lower-floor aisle, a ramp that turns round in a
+    teardrop and rises one storey, and a narrow upper-floor deck lane that runs back
+    exactly above the aisle (and above the ramp's own start).
+
+    Judged in plan, the deck and the ramp's return lie on the aisle and the ramp's start,
+    so a vehicle swinging out of the ramp's last bend over the aisle seems to stay on its
+    lanes; judged by level it leaves the deck's narrow lane."""
+    r, lead = GARAGE_RADIUS_M, 15.0
+    turn = _teardrop(r)
+    plan = [(-lead, 0.0), *turn, (-lead - 25.0, 0.0)]
+    xy = np.array(plan)
+    s = np.concatenate(([0.0], np.cumsum(np.hypot(*np.diff(xy, axis=0).T))))
+    z = GARAGE_STOREY_M * s / s[-1]
+    pts = [(float(x), float(y), float(h)) for (x, y), h in zip(plan, z)]
+    # cut at the apex (node M): netconvert cuts an edge where it passes over its own end
+    # junctions in plan, whatever the level, and the ramp's return passes over B
+    apex = int(np.argmax(xy[:, 0]))
+    top = GARAGE_STOREY_M
+    nodes = [
+        f'<node id="A" x="{-lead - 45:.3f}" y="0.000" z="0"/>',
+        f'<node id="B" x="{-lead:.3f}" y="0.000" z="0"/>',
+        f'<node id="M" x="{pts[apex][0]:.3f}" y="{pts[apex][1]:.3f}" z="{pts[apex][2]:.3f}"/>',
+        f'<node id="U" x="{-lead - 25:.3f}" y="0.000" z="{top:.3f}"/>',
+        f'<node id="D" x="{-lead - 70:.3f}" y="0.000" z="{top:.3f}"/>',
+    ]
+    common = 'numLanes="1" speed="4.17" spreadType="center"'
+    ramp = f'{common} width="{GARAGE_RAMP_M}"'
+    edges = [
+        f'<edge id="aisle" from="A" to="B" {common} width="{GARAGE_AISLE_M}"/>',
+        f'<edge id="ramp_up" from="B" to="M" {ramp} shape="{fmt(pts[: apex + 1])}"/>',
+        f'<edge id="ramp_down" from="M" to="U" {ramp} shape="{fmt(pts[apex:])}"/>',
+        f'<edge id="deck" from="U" to="D" {common} width="{GARAGE_DECK_M}"/>',
+    ]
+    _write(directory, "garage", nodes, edges)
+
+
 WRITERS = {
     "intersection": write_intersection,
     "roundabout": write_roundabout,
     "parking_ramp": write_parking_ramp,
+    "helix": write_helix,
+    "garage": write_garage,
 }
 
 
