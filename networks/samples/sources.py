@@ -458,7 +458,8 @@ def _helix_points(
     a = np.linspace(a0_deg, a0_deg + turn_deg, n + 1)
     z = np.linspace(z0_m, z1_m, n + 1)
     return [(centre[0] + radius_m * math.cos(math.radians(t)),
-             centre[1] + radius_m * math.sin(math.radians(t)), float(h)) for t, h in zip(a, z)]
+             centre[1] + radius_m * math.sin(math.radians(t)), float(h))
+            for t, h in zip(a, z, strict=True)]
 
 
 def write_helix(directory: Path) -> None:
@@ -495,7 +496,7 @@ GARAGE_RAMP_M = 3.5
 GARAGE_RADIUS_M = 9.0
 
 
-def _teardrop(radius_m: float, step_deg: float = 5.0) -> list[tuple[float, float]]:
+def _teardrop(radius_m: float, step_deg: float = 5.0) -> list[Point]:
     """A turnaround from (0, 0) heading east back to (0, 0) heading west: right 60 degrees,
     left 300 degrees, right 60 degrees, all of ``radius_m`` (its neck is the origin).
 
@@ -526,7 +527,7 @@ def write_garage(directory: Path) -> None:
     xy = np.array(plan)
     s = np.concatenate(([0.0], np.cumsum(np.hypot(*np.diff(xy, axis=0).T))))
     z = GARAGE_STOREY_M * s / s[-1]
-    pts = [(float(x), float(y), float(h)) for (x, y), h in zip(plan, z)]
+    pts = [(float(x), float(y), float(h)) for (x, y), h in zip(plan, z, strict=True)]
     # cut at the apex (node M): netconvert cuts an edge where it passes over its own end
     # junctions in plan, whatever the level, and the ramp's return passes over B
     apex = int(np.argmax(xy[:, 0]))
