@@ -46,9 +46,8 @@ VIEWS: dict[str, list[tuple[str, tuple[float, float, float, float] | None]]] = {
         ("compact roundabout C (ICD 26 m)", (250.0, 350.0, -50.0, 50.0)),
     ],
     "parking_ramp": [("helix: R 7.5 m, 3 m rise per turn, 2.25 turns", None)],
-    "helix": [("helix: R 9 m, 3.5 m lane, 3.2 m rise per turn, 3 turns", None)],
-    "garage": [("garage: 6.5 m aisle (z 0), teardrop ramp R 9 m, 3 m deck lane above (z 3)",
-                None)],
+    "helix": [("helix: R 9 m, 3.2 m per turn, 3 turns", None)],
+    "garage": [("garage: aisle (z 0), ramp, deck above (z 3.5)", None)],
 }
 
 #: Extra options per sample.

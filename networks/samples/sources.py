@@ -21,7 +21,7 @@ __all__ = ["Corners", "HELIX_LANE_M", "HELIX_RADIUS_M", "HELIX_RISE_PER_TURN_M",
            "INTERSECTION_CORNERS", "Point", "ROUNDABOUTS", "RingDesign", "SAMPLES_DIR",
            "TEE_TIGHT_CORNER_M", "TEE_WIDE_CORNER_M", "WRITERS", "arc", "fmt", "four_leg", "main",
            "ring", "tee", "write_garage", "write_helix", "write_intersection", "write_parking_ramp",
-           "write_roundabout", "GARAGE_AISLE_M", "GARAGE_DECK_M", "GARAGE_RADIUS_M",
+           "write_roundabout", "GARAGE_AISLE_M", "GARAGE_CORNER_M", "GARAGE_DECK_M", "GARAGE_RADIUS_M",
            "GARAGE_RAMP_M", "GARAGE_STOREY_M", "LEVEL_HELIX_LANE_M", "LEVEL_HELIX_RADIUS_M",
            "LEVEL_HELIX_RISE_PER_TURN_M", "LEVEL_HELIX_TURNS"]
 
@@ -488,12 +488,14 @@ def write_helix(directory: Path) -> None:
 
 # --------------------------------------------------------------------------- garage
 
-#: The ``garage`` sample (issue 17): storey height, the lanes' widths, the turnaround's radius.
-GARAGE_STOREY_M = 3.0
+#: The ``garage`` sample (issue 17): storey height, the lanes' widths, the turnaround's
+#: radius and the radius of the upper floor's corner.
+GARAGE_STOREY_M = 3.5
 GARAGE_AISLE_M = 6.5
 GARAGE_DECK_M = 3.0
 GARAGE_RAMP_M = 3.5
-GARAGE_RADIUS_M = 9.0
+GARAGE_RADIUS_M = 10.0
+GARAGE_CORNER_M = 6.0
 
 
 def _teardrop(radius_m: float, step_deg: float = 5.0) -> list[Point]:
@@ -514,36 +516,47 @@ def _teardrop(radius_m: float, step_deg: float = 5.0) -> list[Point]:
 
 
 def write_garage(directory: Path) -> None:
-    """The ``garage`` sample: a wide lower-floor aisle, a ramp that turns round in a
-    teardrop and rises one storey, and a narrow upper-floor deck lane that runs back
-    exactly above the aisle (and above the ramp's own start).
+    """The ``garage`` sample: two storeys joined by a ramp that turns round in a teardrop.
 
-    Judged in plan, the deck and the ramp's return lie on the aisle and the ramp's start,
-    so a vehicle swinging out of the ramp's last bend over the aisle seems to stay on its
-    lanes; judged by level it leaves the deck's narrow lane."""
-    r, lead = GARAGE_RADIUS_M, 15.0
-    turn = _teardrop(r)
-    plan = [(-lead, 0.0), *turn, (-lead - 25.0, 0.0)]
+    The lower floor's aisle (z 0) comes north; the ramp begins with a wide bend to the
+    right (radius 14.1 m, the aisle's width), rises one storey round the teardrop, comes
+    back west above its own start and turns left round a tight corner (radius
+    :data:`GARAGE_CORNER_M`) onto the narrow deck lane, which runs south exactly above the
+    aisle. The wide bend passes under the inside of that corner: in plan the ramp's own
+    lanes there cover the inside of the corner, where a vehicle offtracks, so judged in
+    plan it stays on its own lanes; judged by level it leaves the only lane of its floor."""
+    r, c = GARAGE_RADIUS_M, GARAGE_CORNER_M
+    corner = (-30.0, -c)  # the upper corner's centre: from heading west to heading south
+    d = 11.5  # the wide bend's centre lies this far from the corner's, away from its inside
+    bend_r = c + d / math.sqrt(2.0)  # its top is at y = 0, its west point under the deck
+    bend = (corner[0] + d / math.sqrt(2.0), corner[1] - d / math.sqrt(2.0))
+    x_deck = corner[0] - c
+    plan = [(x_deck, bend[1]), *arc(bend, bend_r, 180.0, 90.0)[1:], *_teardrop(r),
+            *arc(corner, c, 90.0, 180.0), (x_deck, -20.0)]
     xy = np.array(plan)
     s = np.concatenate(([0.0], np.cumsum(np.hypot(*np.diff(xy, axis=0).T))))
     z = GARAGE_STOREY_M * s / s[-1]
     pts = [(float(x), float(y), float(h)) for (x, y), h in zip(plan, z, strict=True)]
-    # cut at the apex (node M): netconvert cuts an edge where it passes over its own end
-    # junctions in plan, whatever the level, and the ramp's return passes over B
+    # cut where the bend ends (node B) and at the apex (node M): netconvert cuts an edge
+    # where it passes over its own end junctions in plan, whatever the level, and the
+    # ramp's return passes over B
+    b = len(arc(bend, bend_r, 180.0, 90.0)) - 1
     apex = int(np.argmax(xy[:, 0]))
-    top = GARAGE_STOREY_M
+    u = pts[-1]
     nodes = [
-        f'<node id="A" x="{-lead - 45:.3f}" y="0.000" z="0"/>',
-        f'<node id="B" x="{-lead:.3f}" y="0.000" z="0"/>',
+        f'<node id="A" x="{x_deck:.3f}" y="-70.000" z="0"/>',
+        f'<node id="S" x="{x_deck:.3f}" y="{bend[1]:.3f}" z="0"/>',
+        f'<node id="B" x="{pts[b][0]:.3f}" y="{pts[b][1]:.3f}" z="{pts[b][2]:.3f}"/>',
         f'<node id="M" x="{pts[apex][0]:.3f}" y="{pts[apex][1]:.3f}" z="{pts[apex][2]:.3f}"/>',
-        f'<node id="U" x="{-lead - 25:.3f}" y="0.000" z="{top:.3f}"/>',
-        f'<node id="D" x="{-lead - 70:.3f}" y="0.000" z="{top:.3f}"/>',
+        f'<node id="U" x="{u[0]:.3f}" y="{u[1]:.3f}" z="{u[2]:.3f}"/>',
+        f'<node id="D" x="{u[0]:.3f}" y="-50.000" z="{u[2]:.3f}"/>',
     ]
     common = 'numLanes="1" speed="4.17" spreadType="center"'
-    ramp = f'{common} width="{GARAGE_RAMP_M}"'
+    wide, ramp = f'{common} width="{GARAGE_AISLE_M}"', f'{common} width="{GARAGE_RAMP_M}"'
     edges = [
-        f'<edge id="aisle" from="A" to="B" {common} width="{GARAGE_AISLE_M}"/>',
-        f'<edge id="ramp_up" from="B" to="M" {ramp} shape="{fmt(pts[: apex + 1])}"/>',
+        f'<edge id="aisle" from="A" to="S" {wide}/>',
+        f'<edge id="ramp_in" from="S" to="B" {wide} shape="{fmt(pts[: b + 1])}"/>',
+        f'<edge id="ramp_up" from="B" to="M" {ramp} shape="{fmt(pts[b: apex + 1])}"/>',
         f'<edge id="ramp_down" from="M" to="U" {ramp} shape="{fmt(pts[apex:])}"/>',
         f'<edge id="deck" from="U" to="D" {common} width="{GARAGE_DECK_M}"/>',
     ]
