@@ -209,7 +209,7 @@ def network_is_flat(net: Network) -> bool:
     return not np.isfinite(lo) or hi - lo <= LEVEL_STEP_M
 
 
-def curve_levels(index: AreaIndex, curve: AreaCurve) -> tuple[Level, ...]:
+def curve_levels(index: AreaIndex, curve: AreaCurve, force: bool = False) -> tuple[Level, ...]:
     """A curve's level segments, each with its storey's own lanes, roadway and paved area.
 
     The members of the curve's areas (:class:`~networks.area_groups.BatchPlan`) are cut to
@@ -217,7 +217,7 @@ def curve_levels(index: AreaIndex, curve: AreaCurve) -> tuple[Level, ...]:
     (:func:`analysis.levels.level_slots` of the centre line); the paved area covers the
     roadway and the own lanes, as in plan. None (an empty tuple) when the run and every
     member lie within :data:`~analysis.levels.LEVEL_STEP_M` of each other: the plan areas
-    are then the storey's.
+    are then the storey's (``force`` builds the levels all the same, for checks).
 
     Examples
     --------
@@ -244,7 +244,7 @@ def curve_levels(index: AreaIndex, curve: AreaCurve) -> tuple[Level, ...]:
     s = np.concatenate(([0.0], np.cumsum(np.hypot(*np.diff(cl[:, :2], axis=0).T))))
     heights = [cl[:, 2], *(net.lanes[k].shape[:, 2] for k in paved_lanes),
                np.array([net.junctions[j].z for j in junctions])]
-    if is_flat(np.concatenate(heights)):
+    if not force and is_flat(np.concatenate(heights)):
         return ()
     line = designed_line(cl, curve.curve_id)
     along = np.concatenate(([0.0], np.cumsum(np.hypot(*np.diff(line, axis=0).T))))
