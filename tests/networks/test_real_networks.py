@@ -6,8 +6,8 @@ import math
 from pathlib import Path
 
 import numpy as np
-import shapely
 import pytest
+import shapely
 
 from networks.curves import CurveOptions, extract_curves
 from networks.reader import read_network
