@@ -17,13 +17,13 @@ from pathlib import Path
 
 import numpy as np
 
-__all__ = ["Corners", "HELIX_LANE_M", "HELIX_RADIUS_M", "HELIX_RISE_PER_TURN_M", "HELIX_TURNS",
-           "INTERSECTION_CORNERS", "Point", "ROUNDABOUTS", "RingDesign", "SAMPLES_DIR",
-           "TEE_TIGHT_CORNER_M", "TEE_WIDE_CORNER_M", "WRITERS", "arc", "fmt", "four_leg", "main",
-           "ring", "tee", "write_garage", "write_helix", "write_intersection", "write_parking_ramp",
-           "write_roundabout", "GARAGE_AISLE_M", "GARAGE_CORNER_M", "GARAGE_DECK_M", "GARAGE_RADIUS_M",
-           "GARAGE_RAMP_M", "GARAGE_STOREY_M", "LEVEL_HELIX_LANE_M", "LEVEL_HELIX_RADIUS_M",
-           "LEVEL_HELIX_RISE_PER_TURN_M", "LEVEL_HELIX_TURNS"]
+__all__ = ["Corners", "GARAGE_AISLE_M", "GARAGE_CORNER_M", "GARAGE_DECK_M", "GARAGE_RADIUS_M",
+           "GARAGE_RAMP_M", "GARAGE_STOREY_M", "HELIX_LANE_M", "HELIX_RADIUS_M",
+           "HELIX_RISE_PER_TURN_M", "HELIX_TURNS", "INTERSECTION_CORNERS", "LEVEL_HELIX_LANE_M",
+           "LEVEL_HELIX_RADIUS_M", "LEVEL_HELIX_RISE_PER_TURN_M", "LEVEL_HELIX_TURNS", "Point",
+           "ROUNDABOUTS", "RingDesign", "SAMPLES_DIR", "TEE_TIGHT_CORNER_M", "TEE_WIDE_CORNER_M",
+           "WRITERS", "arc", "fmt", "four_leg", "main", "ring", "tee", "write_garage",
+           "write_helix", "write_intersection", "write_parking_ramp", "write_roundabout"]
 
 SAMPLES_DIR = Path(__file__).resolve().parent
 
