@@ -59,7 +59,7 @@ from vehicles.errors import InputError
 
 __all__ = ["Areas", "Clearance", "DEFAULT_DENSIFY_M", "END_SLACK_M", "NEAR_M", "PRECISION_M",
            "RunResult", "VERDICTS", "classify", "end_boxes", "evaluate", "evaluate_batch",
-           "farthest_on_lines", "signed_margin_m"]
+           "farthest_on_lines", "signed_margin_m", "worst_level"]
 
 VERDICTS = ("cannot-turn", "fails", "encroaches", "clear")
 """Verdicts, worst first."""
@@ -567,7 +567,7 @@ def evaluate(
     if not parts:
         clearance = classify(measured, areas, 0.0, reason, ignore=ignore)
     else:
-        clearance = _worst_level([(lv, where, classify(env, lv.areas, 0.0, reason,
+        clearance = worst_level([(lv, where, classify(env, lv.areas, 0.0, reason,
                                                         ignore=ignore))
                                   for lv, where, env, _ in parts])
         rows = [w for _, _, _, w in parts if w is not None]
@@ -583,8 +583,21 @@ def evaluate(
                      measured)
 
 
-def _worst_level(found: list[tuple[Level, tuple[float, float], Clearance]]) -> Clearance:
-    """The worst level stretch's verdict and reason (naming it), the least margins."""
+def worst_level(found: list[tuple[Level, tuple[float, float], Clearance]]) -> Clearance:
+    """The worst level stretch's verdict and reason (naming it), the least margins
+    (:mod:`analysis.levels`; ``found`` holds each stretch's level, its stations and its
+    clearance).
+
+    Examples
+    --------
+    >>> from analysis.levels import Level
+    >>> lv = Level(0.0, 1.0, None)
+    >>> a = Clearance("clear", 0.2, 0.5, None, 0.0, "stays")
+    >>> b = Clearance("encroaches", -0.1, 0.3, None, 0.0, "leaves")
+    >>> c = worst_level([(lv, (0.0, 10.0), a), (lv, (10.0, 20.0), b)])
+    >>> c.verdict, c.margin_m, c.paved_margin_m, c.reason
+    ('encroaches', -0.1, 0.3, 'leaves (on the level at 0.5 m, stations 10.0-20.0 m)')
+    """
     lv, (a, b), worst = min(found, key=lambda f: (worst_first(VERDICTS, f[2].verdict),
                                                   f[2].margin_m))
     roads = [c.roadway_margin_m for _, _, c in found if c.roadway_margin_m is not None]

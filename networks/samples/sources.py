@@ -495,7 +495,7 @@ GARAGE_AISLE_M = 6.5
 GARAGE_DECK_M = 3.0
 GARAGE_RAMP_M = 3.5
 GARAGE_RADIUS_M = 10.0
-GARAGE_CORNER_M = 6.0
+GARAGE_CORNER_M = 6.6
 
 
 def _teardrop(radius_m: float, step_deg: float = 5.0) -> list[Point]:
@@ -519,7 +519,7 @@ def write_garage(directory: Path) -> None:
     """The ``garage`` sample: two storeys joined by a ramp that turns round in a teardrop.
 
     The lower floor's aisle (z 0) comes north; the ramp begins with a wide bend to the
-    right (radius 14.1 m, the aisle's width), rises one storey round the teardrop, comes
+    right (radius 14.4 m, the aisle's width), rises one storey round the teardrop, comes
     back west above its own start and turns left round a tight corner (radius
     :data:`GARAGE_CORNER_M`) onto the narrow deck lane, which runs south exactly above the
     aisle. The wide bend passes under the inside of that corner: in plan the ramp's own
@@ -527,7 +527,7 @@ def write_garage(directory: Path) -> None:
     plan it stays on its own lanes; judged by level it leaves the only lane of its floor."""
     r, c = GARAGE_RADIUS_M, GARAGE_CORNER_M
     corner = (-30.0, -c)  # the upper corner's centre: from heading west to heading south
-    d = 11.5  # the wide bend's centre lies this far from the corner's, away from its inside
+    d = 11.0  # the wide bend's centre lies this far from the corner's, away from its inside
     bend_r = c + d / math.sqrt(2.0)  # its top is at y = 0, its west point under the deck
     bend = (corner[0] + d / math.sqrt(2.0), corner[1] - d / math.sqrt(2.0))
     x_deck = corner[0] - c

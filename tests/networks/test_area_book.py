@@ -209,9 +209,11 @@ def test_level_swept_width_on_the_helix_is_one_passage_against_the_closed_form()
 
 
 def test_the_garage_ramp_is_clear_in_plan_and_fails_by_level_for_the_p():
-    # the P offtracks inward round the tight upper corner (radius 6 m, z about 2.9 m) by
-    # about 0.2 m; in plan the ramp's own wide bend on the lower floor (z about 0.4 m)
-    # lies under the inside of that corner, so the plan areas hold the offtracking
+    # the P, following its lane, offtracks inward round the tight upper corner (radius
+    # 6.6 m, z about 2.9 m) by about 0.13 m beyond its lane; in plan the ramp's own wide
+    # bend on the lower floor (z about 0.4 m) lies under the inside of that corner, so the
+    # plan areas hold the offtracking (the swung path the study then finds is clear by
+    # level too: a driver swings wide in the 3.5 m lane)
     import dataclasses
 
     from analysis.clearance import evaluate
@@ -228,12 +230,13 @@ def test_the_garage_ramp_is_clear_in_plan_and_fails_by_level_for_the_p():
     assert plan.verdict == "clear" and plan.margin_m > 0.05
     by_level = d.result
     assert by_level.verdict == "fails"
-    assert by_level.clearance.paved_margin_m == pytest.approx(-0.19, abs=0.03)
+    assert by_level.clearance.paved_margin_m == pytest.approx(-0.13, abs=0.03)
     reason = by_level.clearance.reason
     assert "leaves the paved area" in reason and "on the level at 2.5 m" in reason
-    # where it fails: the inside of the upper corner (radius 6 m about (-30, -6), its lane's
-    # inner edge at 4.25 m), over the lower bend's lane: paved in plan, not on that level
-    inside = shapely.Point(-30.0, -6.0).buffer(6.0 - 1.75, quad_segs=32)
+    # where it fails: the inside of the upper corner (radius 6.6 m about (-30, -6.6), its
+    # lane's inner edge at 4.85 m), over the lower bend's lane: paved in plan, not on that
+    # level
+    inside = shapely.Point(-30.0, -6.6).buffer(6.6 - 1.75, quad_segs=32)
     hit = shapely.intersection(by_level.measured, inside)
     assert hit.area > 0.05
     upper = [lv for lv in curve_areas(ramp).levels if lv.z_m == pytest.approx(2.5, abs=0.6)]
