@@ -519,10 +519,10 @@ def write_garage(directory: Path) -> None:
     """The ``garage`` sample: two storeys joined by a ramp that turns round in a teardrop.
 
     The lower floor's aisle (z 0) comes north; the ramp begins with a wide bend to the
-    right (radius 14.4 m, the aisle's width), rises one storey round the teardrop, comes
-    back west above its own start and turns left round a tight corner (radius
-    :data:`GARAGE_CORNER_M`) onto the narrow deck lane, which runs south exactly above the
-    aisle. The wide bend passes under the inside of that corner: in plan the ramp's own
+    right (radius 14.4 m, the aisle's width, and 15 m straight on), rises one storey round
+    the teardrop, comes back west above its own start and turns left round a tight corner
+    (radius :data:`GARAGE_CORNER_M`) onto the narrow deck lane, which runs south exactly
+    above the aisle. The wide bend passes under the inside of that corner: in plan the ramp's own
     lanes there cover the inside of the corner, where a vehicle offtracks, so judged in
     plan it stays on its own lanes; judged by level it leaves the only lane of its floor."""
     r, c = GARAGE_RADIUS_M, GARAGE_CORNER_M
@@ -531,7 +531,10 @@ def write_garage(directory: Path) -> None:
     bend_r = c + d / math.sqrt(2.0)  # its top is at y = 0, its west point under the deck
     bend = (corner[0] + d / math.sqrt(2.0), corner[1] - d / math.sqrt(2.0))
     x_deck = corner[0] - c
-    plan = [(x_deck, bend[1]), *arc(bend, bend_r, 180.0, 90.0)[1:], *_teardrop(r),
+    # the wide lane goes on 15 m past the bend before the ramp narrows (node B), so that
+    # a vehicle reaches B straightened out
+    bend_pts = arc(bend, bend_r, 180.0, 90.0)
+    plan = [(x_deck, bend[1]), *bend_pts[1:], (bend[0] + 15.0, 0.0), *_teardrop(r),
             *arc(corner, c, 90.0, 180.0), (x_deck, -20.0)]
     xy = np.array(plan)
     s = np.concatenate(([0.0], np.cumsum(np.hypot(*np.diff(xy, axis=0).T))))
@@ -540,7 +543,7 @@ def write_garage(directory: Path) -> None:
     # cut where the bend ends (node B) and at the apex (node M): netconvert cuts an edge
     # where it passes over its own end junctions in plan, whatever the level, and the
     # ramp's return passes over B
-    b = len(arc(bend, bend_r, 180.0, 90.0)) - 1
+    b = len(bend_pts)
     apex = int(np.argmax(xy[:, 0]))
     u = pts[-1]
     nodes = [
