@@ -194,9 +194,10 @@ def run_analytic(vehicle: Vehicle, curve: Curve, offset_m: float = 0.0) -> Analy
         s_cl = arc_length(cl[:, :2])
         z = np.interp(s * s_cl[-1] / max(s_pts[-1], 1e-9), s_cl, cl[:, 2])
         found = []
+        quads = np.asarray(parts, dtype=object)
         for a, b, i in path_segments(s, z, curve.levels):
             near = (s[:-1] <= b + CORRIDOR_OVERLAP_M) & (s[1:] >= a - CORRIDOR_OVERLAP_M)
-            part = shapely.union_all(parts[near])
+            part = shapely.union_all(quads[near])
             part = part.buffer(offset_m, quad_segs=8) if offset_m > 0 else part
             part = shapely.difference(part, boxes)
             if shapely.area(part) >= 1e-6:
