@@ -250,6 +250,24 @@ def level_sweeps(
     ``steps`` are the sweep's tolerance and the width step (m). Returns
     ``(level, (start_m, end_m), judged part, widths)`` for the stretches whose judged part
     is not empty; none for a path without heights.
+
+    Examples
+    --------
+    A car up a 30 m ramp rising 3 m, in slots of 1 m: three stretches, each a part of the
+    sweep; a path without heights has none.
+
+    >>> from analysis.polyline import prepare_path
+    >>> from analysis.tracking import simulate
+    >>> from vehicles.vehicle import Vehicle
+    >>> car = Vehicle("car", 2.7, 1.5, 1.8, 0.9, 1.0, 0.6, 0.65, 0.5)
+    >>> levels = [Level(float(k), k + 1.0, None) for k in range(3)]
+    >>> run = simulate(car, prepare_path([(0.0, 0.0, 0.0), (30.0, 0.0, 3.0)]))
+    >>> parts = level_sweeps(run, levels, None, 0.0, None, (0.02, 0.5), None)
+    >>> [round(lv.z_m, 1) for lv, *_ in parts], [round(float(w[:, 1].max()), 2) for *_, w in parts]
+    ([0.5, 1.5, 2.5], [1.8, 1.8, 1.8])
+    >>> level_sweeps(simulate(car, prepare_path([(0.0, 0.0), (30.0, 0.0)])), levels, None, 0.0,
+    ...              None, (0.02, 0.5), None)
+    []
     """
     path = run.path
     if path.z is None or not levels:
@@ -285,11 +303,23 @@ def level_sweeps(
 
 
 def worst_first(verdicts: tuple[str, ...], verdict: str) -> int:
-    """Rank of a verdict in ``verdicts`` (worst first); unknown verdicts rank last."""
+    """Rank of a verdict in ``verdicts`` (worst first); unknown verdicts rank last.
+
+    Examples
+    --------
+    >>> worst_first(("fails", "clear"), "clear"), worst_first(("fails", "clear"), "odd")
+    (1, 2)
+    """
     return verdicts.index(verdict) if verdict in verdicts else len(verdicts)
 
 
 def finite_min(values: list[float]) -> float:
-    """The least of the finite values (``nan`` when none is)."""
+    """The least of the values that are not ``nan`` (``nan`` when none is).
+
+    Examples
+    --------
+    >>> finite_min([0.3, math.nan, -0.1]), math.isnan(finite_min([math.nan]))
+    (-0.1, True)
+    """
     kept = [v for v in values if not math.isnan(v)]
     return min(kept) if kept else math.nan
