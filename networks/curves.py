@@ -42,6 +42,7 @@ import numpy as np
 from shapely.geometry.base import BaseGeometry
 
 from analysis.levels import Level
+from networks.elevation import drop_suspect_elevation
 from networks.geometry import (
     arc_length,
     clean_polyline,
@@ -119,7 +120,11 @@ class Curve:
         The narrowest lane of the feature.
     max_grade_pct, max_grade_change_pct
         Largest grade and largest algebraic change of grade over the feature and 3 m
-        either side (see :func:`networks.geometry.grades_pct`).
+        either side (see :func:`networks.geometry.grades_pct`), without suspect heights.
+    suspect_elevation
+        Lone heights of the centre line far off their neighbours', named by lane and point
+        (:mod:`networks.elevation`): left out of the centre line's z, the grade and the
+        vertical checks; ``""`` when there are none.
     own_lanes, roadway, paved
         Shapely areas (properties): the curve's lanes (its centre line buffered by half
         the lane width), the same-direction roadway, the paved area (see
@@ -147,6 +152,7 @@ class Curve:
     lane_width_m: float
     max_grade_pct: float
     max_grade_change_pct: float
+    suspect_elevation: str = ""
     area_book: AreaBook | None = field(default=None, init=False, repr=False)
     area_batch: int = field(default=-1, init=False, repr=False)
     _own: BaseGeometry | None = field(default=None, init=False, repr=False)
@@ -265,13 +271,15 @@ def _measure(
     for n, ((cid, kind, junction, _), path, min_r, turn, slope) in enumerate(zip(
         items, paths, prof.min_radius_m.tolist(), prof.turn_deg.tolist(), sloped, strict=True
     )):
-        line = path.centerline
+        line, suspect = path.centerline, ""
+        if slope:  # a lone height far off its neighbours is not a ramp (networks.elevation)
+            line, suspect = drop_suspect_elevation(net, path.lanes, line)
         a, b = path.core_start_m, path.core_end_m
         g, dg = grades_pct(line, a - w, b + w, w) if slope else (0.0, 0.0)
         width = float(min(lanes[x].width_m for x in (path.core_lanes or path.lanes)))
         curves.append(Curve(
             cid, kind, junction, path.lanes, path.core_lanes, line, a, b, prof.stations[n],
-            prof.radius_m[n], min_r, turn, b - a, width, g, dg,
+            prof.radius_m[n], min_r, turn, b - a, width, g, dg, suspect_elevation=suspect,
         ))
     return curves
 

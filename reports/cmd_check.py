@@ -15,6 +15,11 @@ golden file says. Better verdicts are reported (the golden file may be out of da
 pass. ``--write-golden`` writes the current verdicts as a golden file instead and exits 0
 once it is written, whatever the verdicts.
 
+Vertical findings (:mod:`reports.vertical`: ``scrapes``, ``too-steep``) fail the gate in
+both modes unless given with ``--allow``; each is listed with the part of the body, the
+depth and the station. They are not verdicts of the golden file (a run has its plan
+verdict and its vertical finding side by side).
+
 ``--kind``, ``--junction`` and ``--bbox`` check only the curves of one scheme
 (:mod:`networks.selection`); with ``--expect``, only the golden rows of that selection are
 judged.
@@ -34,6 +39,7 @@ from reports.golden import compare, golden_text, read_golden, relevant
 from reports.options import (
     add_clearance_option,
     add_executor_options,
+    add_grade_option,
     add_lane_only_option,
     add_net_option,
     add_selection_options,
@@ -43,13 +49,14 @@ from reports.options import (
 )
 from reports.study import METHODS, VERDICT_ORDER, Study, run_study
 from reports.text_table import counted
+from reports.vertical import FINDINGS, vertical_words
 from reports.waivers import Waived, read_waivers, study_waivers
 from vehicles.errors import InputError
 from vehicles.table import load_tables
 
 __all__ = ["ALLOWABLE", "add_parser", "run"]
 
-ALLOWABLE = ("encroaches", "fails", "cannot-turn")
+ALLOWABLE = ("encroaches", "fails", "cannot-turn", *FINDINGS)
 
 
 def add_parser(sub: argparse._SubParsersAction) -> None:
@@ -66,9 +73,11 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
                    help="design vehicle (repeatable)")
     add_table_option(p)
     p.add_argument("--allow", action="append", choices=ALLOWABLE, default=[],
-                   help="a verdict that does not fail the gate (repeatable)")
+                   help="a verdict or vertical finding that does not fail the gate "
+                        "(repeatable)")
     p.add_argument("--method", choices=METHODS, default="simulate")
     add_clearance_option(p)
+    add_grade_option(p)
     add_lane_only_option(p)
     add_executor_options(p)
     add_selection_options(p)
@@ -136,6 +145,19 @@ def _expect(args: argparse.Namespace, golden: pd.DataFrame, study: Study,
     return 1 if failed else 0
 
 
+def _vertical_failures(frame: pd.DataFrame, allowed: set[str]) -> int:
+    """Print the runs whose vertical finding (scrapes, too-steep) is not allowed; their
+    number."""
+    def findings(text: str) -> set[str]:
+        return {x.strip() for x in text.split(",")} & set(FINDINGS)
+
+    bad = [r for r in frame.itertuples() if findings(str(r.vertical)) - allowed]
+    bad.sort(key=lambda r: (r.vertical_margin_m, r.network, r.curve_id, r.vehicle))
+    for r in bad:
+        print(f"{r.network}: {r.curve_id}: {r.vehicle}: {vertical_words(r)}")
+    return len(bad)
+
+
 def run(args: argparse.Namespace) -> int:
     if (args.allow_new or args.allow_gone) and not args.expect:
         raise InputError("--allow-new and --allow-gone go with --expect GOLDEN.csv")
@@ -146,7 +168,7 @@ def run(args: argparse.Namespace) -> int:
                if args.waivers else [])
     study = run_study(args.net, table, args.method, args.clearance, selection=selection,
                       workers=args.workers, scheduler=args.scheduler,
-                      swing=not args.lane_only)
+                      swing=not args.lane_only, max_grade_pct=args.max_grade_pct)
     frame = study.frame()
     if not selection.is_empty:
         print(f"selection: {selection.describe()}: "
@@ -159,7 +181,12 @@ def run(args: argparse.Namespace) -> int:
     _warn_unused(waived)
     _print_waived(frame, waived)
     if golden is not None:
-        return _expect(args, golden, study, frame, waived, selection)
+        code = _expect(args, golden, study, frame, waived, selection)
+        vertical = _vertical_failures(frame, set(args.allow))
+        if vertical:
+            print(f"{counted(vertical, 'run')} with a vertical finding not allowed "
+                  f"(scrapes, too-steep)")
+        return 1 if code or vertical else 0
     allowed = {"clear", *args.allow}
     failing = frame[~frame.verdict.isin(allowed)]
     unwaived = [(n, v, c) not in waived.by for n, v, c in
@@ -175,6 +202,8 @@ def run(args: argparse.Namespace) -> int:
             note = f" (worse than {w.where} accepts: {w.verdict})"
         print(f"{r.network}: {r.curve_id}: {r.vehicle}: {r.verdict} ({r.margin_m:+.2f} m)"
               f"{note}")
+    vertical = _vertical_failures(frame, allowed)
     print(f"{len(frame)} runs, {len(waived)} waived, {len(failing)} not allowed "
-          f"(allowed: {', '.join(sorted(allowed))})")
-    return 1 if len(failing) else 0
+          f"(allowed: {', '.join(sorted(allowed))}); {vertical} with a vertical finding "
+          f"not allowed (scrapes, too-steep)")
+    return 1 if len(failing) or vertical else 0

@@ -33,6 +33,7 @@ COLUMNS = (
     "max_grade_pct",
     "max_grade_change_pct",
     "movement",
+    "suspect_elevation",
 )
 
 
@@ -80,6 +81,10 @@ def run(args: argparse.Namespace) -> int:
     curves = extract_curves(net, args.kind or DEFAULT_KINDS, options, areas=False)
     rows = [curve_row(c) for c in curves]
     print_summary(args.net, rows, args.limit)
+    for c in curves:
+        if c.suspect_elevation:
+            print(f"clearance curves: warning: {c.curve_id}: suspect elevation: "
+                  f"{c.suspect_elevation}", file=sys.stderr)
     if args.output is not None:
         write_csv_atomic(args.output, rows)
         print(f"wrote {len(rows)} curve(s) to {args.output}")
@@ -100,6 +105,7 @@ def curve_row(curve: Curve) -> dict[str, str]:
         "max_grade_pct": _num(curve.max_grade_pct, 2),
         "max_grade_change_pct": _num(curve.max_grade_change_pct, 2),
         "movement": movement(curve.kind, curve.turn_angle_deg, curve.min_radius_m),
+        "suspect_elevation": curve.suspect_elevation,
     }
 
 

@@ -23,6 +23,7 @@ from reports.file_names import file_name
 from reports.options import (
     add_clearance_option,
     add_executor_options,
+    add_grade_option,
     add_lane_only_option,
     add_net_option,
     add_output_option,
@@ -87,6 +88,7 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
                    help="simulate: drive through libsumo with the kinematic model (default); "
                         "analytic: steady-state geometry")
     add_clearance_option(p)
+    add_grade_option(p)
     add_lane_only_option(p)
     add_executor_options(p)
     p.add_argument("--units", choices=("m", "ft"), default="m",
@@ -224,7 +226,8 @@ def run(args: argparse.Namespace) -> int:
         fcd = staging / "fcd" if args.fcd else None
         study = run_study(nets, table, args.method, args.clearance, fcd_dir=fcd,
                           workers=args.workers, scheduler=args.scheduler,
-                          selection=selection, swing=not args.lane_only)
+                          selection=selection, swing=not args.lane_only,
+                          max_grade_pct=args.max_grade_pct)
         waived = study_waivers(study.frame(), waivers) if waivers is not None else None
         write_report(study, staging, tables, args.units, waived, origin)
     frame = study.frame()

@@ -22,9 +22,11 @@ import pandas as pd
 
 from reports.figures import COLOURS, plot_curve, plot_network, worst_by_curve
 from reports.file_names import file_name
+from reports.profile_figure import VerticalEntry, vertical_entries
 from reports.study import VERDICT_ORDER, Study
 from reports.text_table import counted
 from reports.units import length_scale
+from reports.vertical import vertical_words
 from reports.waivers import Waived
 
 __all__ = ["CSS", "CurveEntry", "HTML_IMAGE_COLOURS", "HTML_IMAGE_WIDTH_PX", "MATRIX_VEHICLES",
@@ -73,6 +75,8 @@ class Section:
     n_curves: int = 0
     #: Waived runs: curve id, vehicle, verdict, margin (m), reason, waiver's file:line.
     waived: list[tuple[str, str, str, float, str, str]] = field(default_factory=list)
+    #: The vertical checks: curves where a run scrapes or is too steep, and ramps.
+    vertical: list[VerticalEntry] = field(default_factory=list)
 
 
 def build_sections(study: Study, folder: Path, units: str = "m",
@@ -133,6 +137,9 @@ def build_sections(study: Study, folder: Path, units: str = "m",
             recs = [r for r in study.records if r.network == nc.name and r.curve_id == cid]
             recs.sort(key=lambda r: (VERDICT_ORDER[r.verdict], r.margin_m))
             section.curves.append(CurveEntry(cid, None, recs, []))
+        section.vertical = vertical_entries(
+            nc.curves, [r for r in study.records if r.network == nc.name],
+            {v.name: v for v in study.table.vehicles()}, figs, nc.name, units)
         section.n_vehicles = f.vehicle.nunique()
         section.n_curves = len(nc.curves)
         sections.append(section)
@@ -252,6 +259,15 @@ def markdown(study: Study, sections: list[Section], folder: Path, units: str = "
             lines += [f"- {_md_cell(run_words(r, units))}"
                       + (" (drawn)" if r.vehicle in c.drawn else "") for r in c.runs]
             lines.append("")
+        if s.vertical:
+            lines += ["### Vertical checks", ""]
+            for v in s.vertical:
+                lines += [f"#### `{v.curve_id}` (vertical)", ""]
+                if v.figure is not None:
+                    lines += [f"![{v.curve_id} profile]({_rel(v.figure, folder)})", ""]
+                lines += [f"- {r.vehicle}: {_md_cell(vertical_words(r, units) or 'clear')}"
+                          for r in v.runs]
+                lines.append("")
         if s.omitted:
             lines += [f"({s.omitted} more failing or tight curves are in the matrix and "
                       "in clearance.csv, without a figure.)", ""]
@@ -423,6 +439,28 @@ def _matrix_html(s: Section, links: dict[str, str]) -> list[str]:
     return out
 
 
+def _vertical_html(s: Section, units: str) -> list[str]:
+    """The section's vertical checks: each curve's profile figure and its runs' findings."""
+    e = html.escape
+    out = [f'<h3 id="{anchor(s.name)}-vertical">Vertical checks</h3>']
+    if not s.vertical:
+        return out + ["<p>No run scrapes or is too steep, and the network has no ramp.</p>"]
+    out.append("<p>Beside each run's plan verdict: whether the body clears the ground at "
+               "crests (the underside between the axles) and sags (the front and rear "
+               "overhangs), and the grade against the limit; the figure draws the worst "
+               "vehicle at its worst placement.</p>")
+    for v in s.vertical:
+        runs = "".join(f"<li>{e(r.vehicle)}: {e(vertical_words(r, units) or 'clear')}</li>"
+                       for r in v.runs)
+        head = f"<h4><code>{e(v.curve_id)}</code> (vertical)</h4>"
+        if v.figure is not None:
+            out.append(f"{head}<figure>{_img(v.figure, v.curve_id + ' profile')}"
+                       f"<figcaption><ul>{runs}</ul></figcaption></figure>")
+        else:
+            out.append(f"{head}<ul>{runs}</ul>")
+    return out
+
+
 def html_document(study: Study, sections: list[Section], units: str = "m",
                   exports: dict[str, dict[str, str]] | None = None) -> str:
     """``report.html``: one self-contained file (figures embedded, compact, no external
@@ -513,6 +551,7 @@ def html_document(study: Study, sections: list[Section], units: str = "m",
             else:
                 out.append(f"{head}<p>No figure (beyond the first {MAX_CURVE_FIGURES} of "
                            f"the network); every vehicle worst first:</p><ul>{runs}</ul>")
+        out += _vertical_html(s, units)
         out.append('<p><a href="#top">Back to the contents</a></p>')
     out.append('<h2 id="files">Files</h2><ul>'
                "<li><code>clearance.csv</code>: one row per network × vehicle × curve</li>"

@@ -7,7 +7,8 @@ import argparse
 from networks.curves import KINDS
 from networks.selection import Selection, parse_bbox
 
-__all__ = ["add_clearance_option", "add_executor_options", "add_lane_only_option",
+__all__ = ["add_clearance_option", "add_executor_options", "add_grade_option",
+           "add_lane_only_option",
            "add_net_option", "add_output_option",
            "add_selection_options", "add_table_option", "add_units_option", "add_vehicle_option",
            "add_waivers_option", "selection_of"]
@@ -34,6 +35,14 @@ def add_clearance_option(p: argparse.ArgumentParser) -> None:
     """``--clearance M``: the offset the swept envelope is grown by (default 0 m)."""
     p.add_argument("--clearance", type=float, default=0.0, metavar="M",
                    help="clearance offset the swept envelope is grown by (m, default 0)")
+
+
+def add_grade_option(p: argparse.ArgumentParser) -> None:
+    """``--max-grade-pct PCT``: a grade limit for every vehicle (runs above it are
+    ``too-steep``; a vehicle's own ``grade_limit_pct`` applies too, the lower counting)."""
+    p.add_argument("--max-grade-pct", type=float, default=None, metavar="PCT",
+                   help="grade limit for every vehicle (percent): a run on a steeper curve "
+                        "is too-steep; a vehicle's table column grade_limit_pct applies too")
 
 
 def add_lane_only_option(p: argparse.ArgumentParser) -> None:

@@ -21,7 +21,8 @@ COLUMNS = ["network", "vehicle", "curve_id", "kind", "junction", "verdict", "mar
            "paved_margin_m", "curve_radius_m", "vehicle_min_radius_m", "swept_width_m",
            "available_width_m", "max_offtracking_m", "max_tracking_error_m", "turn_angle_deg",
            "max_grade_pct", "method", "clearance_m", "lane_verdict", "lane_margin_m", "path",
-           "encroaches_on", "reason"]
+           "encroaches_on", "reason",
+           "vertical", "vertical_margin_m", "vertical_station_m", "vertical_part", "grade_limit_pct", "suspect_elevation"]  # noqa: E501 - vertical checks
 
 #: Verdicts worst first, as ranks: ``error`` (a run the tool or SUMO could not complete; its
 #: reason says why) before the run verdicts of :data:`analysis.clearance.VERDICTS`, which
@@ -62,6 +63,16 @@ class RunRecord:
     #: What the path's envelope encroaches on: ``same-direction lanes``, ``opposing
     #: lanes``, ``shoulder`` (beyond the paved area), or empty.
     encroaches_on: str = ""
+    #: The vertical finding (:mod:`reports.vertical`): ``clear``, ``scrapes``, ``too-steep``
+    #: or ``scrapes, too-steep``; the least gap under the body (m, negative: into the
+    #: ground), where (m from the feature's start) and which part; the grade limit applied
+    #: (percent, NaN: none); the curve's suspect heights (``""``: none).
+    vertical: str = ""
+    vertical_margin_m: float = math.nan
+    vertical_station_m: float = math.nan
+    vertical_part: str = ""
+    grade_limit_pct: float = math.nan
+    suspect_elevation: str = ""
 
     def row(self) -> dict[str, object]:
         """The record's values by :data:`COLUMNS`."""

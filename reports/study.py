@@ -47,6 +47,7 @@ from networks.selection import Selection, check_junctions, load_selected
 from reports.batch import Batch, detached, lost_batch, run_batch, split_batch
 from reports.executor import Executor, make_executor, run_isolated
 from reports.records import COLUMNS, VERDICT_ORDER, RunRecord
+from reports.vertical import add_vertical
 from vehicles.errors import InputError
 from vehicles.table import VehicleTable
 from vehicles.vehicle import Vehicle
@@ -87,6 +88,8 @@ class Study:
     #: (network, vehicle, curve id) of every curve whose lanes do not admit the
     #: vehicle's SUMO class: not run, not a verdict
     not_permitted: list[tuple[str, str, str]] = field(default_factory=list)
+    #: The study's grade limit for every vehicle (``--max-grade-pct``), or None.
+    max_grade_pct: float | None = None
 
     def frame(self) -> pd.DataFrame:
         """One row per network × vehicle × curve (the columns of ``clearance.csv``)."""
@@ -209,6 +212,7 @@ def run_study(
     selection: Selection | None = None,
     use_sumo: bool = True,
     swing: bool = True,
+    max_grade_pct: float | None = None,
 ) -> Study:
     """Every vehicle of ``table`` through every curve of every network (of ``selection``).
 
@@ -225,6 +229,10 @@ def run_study(
         envelopes and verdicts, faster).
     swing
         ``False``: judge every run on its lane only, no swung paths (simulate method).
+    max_grade_pct
+        A grade limit for every vehicle (percent; a vehicle's own ``grade_limit_pct``
+        applies too, the lower counting): runs on steeper curves are ``too-steep``
+        (:mod:`reports.vertical`).
     selection
         Only the curves of this :class:`~networks.selection.Selection` (kind, junction,
         box), chosen before any area is built.
@@ -238,6 +246,8 @@ def run_study(
         raise InputError(f"unknown method {method!r}: use {' or '.join(METHODS)}")
     if not clearance_m >= 0:
         raise InputError(f"--clearance must be a distance >= 0 m, not {clearance_m}")
+    if max_grade_pct is not None and not 0 < max_grade_pct <= 100:
+        raise InputError(f"--max-grade-pct must be a grade in (0, 100] %, not {max_grade_pct}")
     vehicles = table.vehicles()
     nets = load_networks(network_paths, selection)
     records: list[RunRecord] = []
@@ -273,7 +283,9 @@ def run_study(
     curve_order = {(n.name, c.curve_id): i for n in nets for i, c in enumerate(n.curves)}
     records.sort(key=lambda r: (net_order[r.network], curve_order[(r.network, r.curve_id)],
                                 order[r.vehicle]))
-    return Study(records, nets, table, method, clearance_m, sorted(refused))
+    add_vertical(records, {(n.name, c.curve_id): c for n in nets for c in n.curves},
+                 vehicles, max_grade_pct)
+    return Study(records, nets, table, method, clearance_m, sorted(refused), max_grade_pct)
 
 
 def permitted(nc: NetworkCurves, vehicles: Sequence[Vehicle],

@@ -102,6 +102,13 @@ def summary(study: Study, vehicle_tables: list[Path],
         "by_network": counts(frame, "network"),
         "by_vehicle": counts(frame, "vehicle"),
         "paths": paths(frame),
+        "vertical": {
+            "max_grade_pct": study.max_grade_pct,
+            "findings": {f: int(frame.vertical.str.contains(f, regex=False).sum())
+                         for f in ("scrapes", "too-steep")},
+            "suspect_elevation_curves": int(frame[frame.suspect_elevation != ""]
+                                            .drop_duplicates(["network", "curve_id"]).shape[0]),
+        },
         "not_permitted": {
             "runs": len(study.not_permitted),
             "by_vehicle": dict(sorted(Counter(v for _, v, _ in study.not_permitted).items())),

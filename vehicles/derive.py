@@ -18,6 +18,7 @@ from vehicles.errors import InputError
 from vehicles.lock import rho_from_ctr, rho_from_curb_to_curb, rho_from_wall_to_wall
 from vehicles.schema import LOCK_NAMES, RACK_NAMES, TRAILER_NAMES, default_vclass
 from vehicles.steering import Breakpoints, RackPinion, Schedule, Steering
+from vehicles.underside import UNDERSIDE_COLUMNS, underside_from
 
 __all__ = ["LOCK_TOLERANCE", "derive", "schedule_text"]
 
@@ -209,8 +210,11 @@ def derive(v: dict[str, object], where: str, problems: list[str], warnings: list
     for key, suffix in (("height", "_m"), ("ground_clearance", "_m"), ("approach_deg", ""),
                         ("departure_deg", ""), ("breakover_deg", ""),
                         ("ref_turning_radius", "_m"), ("ref_inside_radius", "_m"),
-                        ("w_l", "")):
+                        ("w_l", ""), ("grade_limit_pct", "")):
         out[key.replace("_deg", "_rad") + suffix] = f(key)
+    c, alpha, delta, beta = (f(k) if k in v else None for k in UNDERSIDE_COLUMNS)
+    out["underside_note"] = underside_from(c, alpha, delta, beta, l, a_f, a_r,
+                                           str(out["vclass"])).note
     for key in ("hitch_offset_m", "trailer_wheelbase_m", "trailer_width_m",
                 "trailer_front_overhang_m", "trailer_rear_overhang_m", "max_articulation_rad"):
         out[key] = trailer.get(key, math.nan)

@@ -42,6 +42,7 @@ from vehicles.schema import (
     default_vclass,
 )
 from vehicles.steering import Breakpoints, RackPinion, Schedule, Steering
+from vehicles.underside import underside_from
 from vehicles.vehicle import Trailer, Vehicle
 
 __all__ = ["DEFAULT_MAX_TABLE_BYTES", "LOCK_TOLERANCE", "MAX_TABLE_MB_ENV", "VehicleTable",
@@ -452,6 +453,16 @@ def vehicle_from_row(row: pd.Series) -> Vehicle:
                           row["trailer_width_m"], row["trailer_front_overhang_m"],
                           row["trailer_rear_overhang_m"], row["max_articulation_rad"])
     height = row.get("height_m", np.nan)
+
+    def given(key: str) -> float | None:
+        value = row.get(key, np.nan)
+        return float(value) if np.isfinite(value) else None
+
+    vclass = str(row.get("vclass") or default_vclass(str(row["category"])))
+    underside = underside_from(given("ground_clearance_m"), given("approach_rad"),
+                               given("departure_rad"), given("breakover_rad"),
+                               float(row["wheelbase_m"]), float(row["front_overhang_m"]),
+                               float(row["rear_overhang_m"]), vclass)
     return Vehicle(
         name=str(row["name"]), wheelbase_m=float(row["wheelbase_m"]),
         track_m=float(row["track_m"]), width_m=float(row["width_m"]),
@@ -463,5 +474,5 @@ def vehicle_from_row(row: pd.Series) -> Vehicle:
         steered_axle=str(row["steered_axle"]),
         height_m=float(height) if np.isfinite(height) else None,
         trailer=trailer, category=str(row["category"]), source=str(row["source"]),
-        vclass=str(row.get("vclass") or default_vclass(str(row["category"]))),
+        vclass=vclass, underside=underside, grade_limit_pct=given("grade_limit_pct"),
     )

@@ -9,6 +9,8 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 
+from vehicles.underside import Underside, underside_from
+
 __all__ = ["Trailer", "Vehicle"]
 
 
@@ -80,6 +82,12 @@ class Vehicle:
         Free text from the table.
     vclass
         SUMO vehicle class: which lanes admit it (``allow``/``disallow``).
+    underside
+        Ground clearance and ramp angles (:class:`~vehicles.underside.Underside`), or
+        ``None``: the vertical checks then take the class default
+        (:func:`vehicles.underside.underside_from` with nothing given).
+    grade_limit_pct
+        The steepest grade the vehicle is to climb (percent), or ``None``: no limit of its own.
     """
 
     name: str
@@ -98,6 +106,8 @@ class Vehicle:
     source: str = ""
     vclass: str = "passenger"
     params: dict[str, str] = field(default_factory=dict, compare=False)
+    underside: Underside | None = None
+    grade_limit_pct: float | None = None
 
     @property
     def length_m(self) -> float:
@@ -117,3 +127,18 @@ class Vehicle:
         t = self.trailer
         rear_of_trailer = self.wheelbase_m + t.hitch_offset_m + t.wheelbase_m + t.rear_overhang_m
         return max(self.front_overhang_m + rear_of_trailer, self.length_m)
+
+    def underside_or_default(self) -> Underside:
+        """:attr:`underside`, or the class default where the vehicle has none.
+
+        Examples
+        --------
+        >>> v = Vehicle("car", 2.7, 1.5, 1.8, 0.9, 1.0, 0.6, 0.7, 0.4)
+        >>> u = v.underside_or_default()
+        >>> u.ground_clearance_m, u.defaulted
+        (0.1, True)
+        """
+        if self.underside is not None:
+            return self.underside
+        return underside_from(None, None, None, None, self.wheelbase_m, self.front_overhang_m,
+                              self.rear_overhang_m, self.vclass)

@@ -242,18 +242,6 @@ def test_a_tracking_error_outside_the_feature_is_not_cannot_turn() -> None:
     assert "in the feature" in at_corner.clearance.reason
 
 
-def test_feature_window_spans_the_whole_vehicle_trailer_included() -> None:
-    from tests.analysis.helpers import semi
-
-    v = semi()
-    run = simulate(v, [(0.0, 0.0), (80.0, 0.0)])
-    s = run.trajectory.s_m[feature_mask(run, (40.0, 41.0))]
-    # from the front bumper reaching 40 m to the trailer's rear leaving 41 m
-    assert s.min() == pytest.approx(40.0 - v.front_overhang_m, abs=0.25)
-    assert s.max() == pytest.approx(41.0 + v.overall_length_m - v.front_overhang_m, abs=0.25)
-    assert v.overall_length_m > v.length_m + 5.0
-
-
 def test_a_run_stopped_before_the_feature_cannot_turn_there() -> None:
     # stopped (beyond the abort distance) at a 3 m corner: it never got through the feature
     line = turn(3.0, 90.0, lead_m=10.0, tail_m=70.0, left=True)

@@ -135,3 +135,18 @@ def test_straight_movements_are_said_in_words(capsys):
     assert len(straight) == 1 and "straight on" in straight[0] and "inf" not in straight[0]
     right = [ln for ln in lines if "TW_in_0->TS_out_0" in ln]
     assert "right 90°" in right[0]
+
+
+def test_suspect_elevation_is_a_column_and_a_warning(tmp_path, capsys):
+    from tests.networks.test_elevation import helix_sources
+
+    nodes, edges = helix_sources(spike_at=40)
+    net = netconvert_plain(tmp_path, "spike", f"<nodes>{nodes}</nodes>",
+                           f"<edges>{edges}</edges>")
+    out = tmp_path / "curves.csv"
+    assert main(["curves", "-n", str(net), "--kind", "ramp", "-o", str(out)]) == 0
+    err = capsys.readouterr().err
+    assert "suspect elevation: lane helix_0 point" in err
+    row = next(csv.DictReader(out.open()))
+    assert row["suspect_elevation"].startswith("lane helix_0 point")
+    assert float(row["max_grade_pct"]) < 6.5
