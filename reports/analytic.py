@@ -26,9 +26,9 @@ It is **not a bound** on the driven method, and it differs from it in two known 
 On a curve with levels (docs/design.md §6, "Levels") the band is cut into the stretches of
 its storeys by the centre line's height, each judged against its own storey's areas.
 
-On the samples with the AASHTO vehicles (715 runs) 547 are alike, 162 more severe and 6
-less severe: the S-BUS40 and the A-BUS at ``turn:T:TE_in_0->TS_out_0`` and the P/B at the
-compact roundabout's right exits, each ``fails`` driven and ``encroaches`` analytically.
+On the five samples with the AASHTO vehicles (819 runs) 482 are alike, 335 more severe
+and 2 less severe: the S-BUS40 and the A-BUS at ``turn:T:TE_in_0->TS_out_0``, each
+``fails`` driven and ``encroaches`` analytically.
 ``tests/reports/test_analytic.py`` checks that relation.
 """
 
