@@ -52,13 +52,14 @@ from analysis.envelope import (
 )
 from analysis.feature import feature_mask, feature_reason, slice_run
 from analysis.kernels import farthest_from_segments, segments_distance
+from analysis.levels import Level, finite_min, level_sweeps, worst_first
 from analysis.polyline import Path
 from analysis.tracking import TrackingRun
 from vehicles.errors import InputError
 
 __all__ = ["Areas", "Clearance", "DEFAULT_DENSIFY_M", "END_SLACK_M", "NEAR_M", "PRECISION_M",
            "RunResult", "VERDICTS", "classify", "end_boxes", "evaluate", "evaluate_batch",
-           "farthest_on_lines", "signed_margin_m"]
+           "farthest_on_lines", "signed_margin_m", "worst_level"]
 
 VERDICTS = ("cannot-turn", "fails", "encroaches", "clear")
 """Verdicts, worst first."""
@@ -127,6 +128,11 @@ class Areas:
     roadway
         The roadway of the same direction (e.g. the roundabout's ring), or ``None``; its
         margin is reported, it does not change the verdict.
+    levels
+        The curve's level segments, each with the areas of its storey
+        (:class:`analysis.levels.Level`); empty (the default) judges in plan against the
+        three areas above. :func:`evaluate` then judges each segment's part of the sweep
+        against its own storey's areas.
 
     Examples
     --------
@@ -142,6 +148,7 @@ class Areas:
     own_lanes: BaseGeometry
     paved: BaseGeometry
     roadway: BaseGeometry | None = None
+    levels: tuple[Level, ...] = ()
     _boundaries: dict[str, BaseGeometry] = field(init=False, repr=False, compare=False)
     _segments: dict[str, np.ndarray] = field(init=False, repr=False, compare=False,
                                              default_factory=dict)
@@ -530,6 +537,7 @@ def evaluate(
     _check_offset(offset_m)
     reason = run.reason
     judged = run
+    mask = None
     if feature_m is not None:
         mask = feature_mask(run, feature_m)
         reason = feature_reason(run, mask)
@@ -538,11 +546,12 @@ def evaluate(
             # one sample either side: the sweep into and out of the window
             lo, hi = max(int(keep[0]) - 1, 0), min(int(keep[-1]) + 1, len(mask) - 1)
             judged = slice_run(run, np.arange(lo, hi + 1))
-    swept = swept_path(judged, tolerance_m=tolerance_m, width_step_m=width_step_m)
+    swept = swept_path(judged, tolerance_m=tolerance_m, width_step_m=width_step_m,
+                       stations_m=feature_m)
     measured = swept.envelope
     if offset_m > 0:
         measured = shapely.buffer(measured, offset_m, quad_segs=8)
-    ignore = None
+    ignore = boxes = None
     if trim_ends:
         v = run.vehicle
         reach = v.overall_length_m + max(v.width_m, v.trailer.width_m if v.trailer else 0.0)
@@ -551,10 +560,52 @@ def evaluate(
         # the lanes' end lines, which the trimmed envelope meets at the (smoothed) path's
         # end normal; a lane's flat end follows its last chord, a few degrees off that
         ignore = shapely.buffer(boxes, END_SLACK_M, quad_segs=1)
-    clearance = classify(measured, areas, 0.0, reason, ignore=ignore)
+    parts = []
+    if areas.levels:  # each level's part of the sweep against its own storey's areas
+        parts = level_sweeps(run, areas.levels, mask, offset_m, boxes,
+                             (tolerance_m, width_step_m), feature_m)
+    if not parts:
+        clearance = classify(measured, areas, 0.0, reason, ignore=ignore)
+    else:
+        clearance = worst_level([(lv, where, classify(env, lv.areas, 0.0, reason,
+                                                        ignore=ignore))
+                                  for lv, where, env, _ in parts])
+        rows = [w for _, _, _, w in parts if w is not None]
+        if rows:
+            widths = np.concatenate(rows)
+            widths = widths[np.argsort(widths[:, 0], kind="stable")]
+            i_w = int(np.argmax(widths[:, 1]))
+            swept = dataclasses.replace(swept, swept_width_m=widths,
+                                        max_swept_width_m=float(widths[i_w, 1]),
+                                        max_swept_width_station_m=float(widths[i_w, 0]))
     return RunResult(run, swept, dataclasses.replace(clearance, offset_m=float(offset_m),
                                                      reason=_grown(clearance, offset_m)),
                      measured)
+
+
+def worst_level(found: list[tuple[Level, tuple[float, float], Clearance]]) -> Clearance:
+    """The worst level stretch's verdict and reason (naming it), the least margins
+    (:mod:`analysis.levels`; ``found`` holds each stretch's level, its stations and its
+    clearance).
+
+    Examples
+    --------
+    >>> from analysis.levels import Level
+    >>> lv = Level(0.0, 1.0, None)
+    >>> a = Clearance("clear", 0.2, 0.5, None, 0.0, "stays")
+    >>> b = Clearance("encroaches", -0.1, 0.3, None, 0.0, "leaves")
+    >>> c = worst_level([(lv, (0.0, 10.0), a), (lv, (10.0, 20.0), b)])
+    >>> c.verdict, c.margin_m, c.paved_margin_m, c.reason
+    ('encroaches', -0.1, 0.3, 'leaves (on the level at 0.5 m, stations 10.0-20.0 m)')
+    """
+    lv, (a, b), worst = min(found, key=lambda f: (worst_first(VERDICTS, f[2].verdict),
+                                                  f[2].margin_m))
+    roads = [c.roadway_margin_m for _, _, c in found if c.roadway_margin_m is not None]
+    where = "" if worst.verdict == "cannot-turn" else (
+        f" (on the level at {lv.z_m:.1f} m, stations {a:.1f}-{b:.1f} m)")
+    return Clearance(worst.verdict, finite_min([c.margin_m for _, _, c in found]),
+                     finite_min([c.paved_margin_m for _, _, c in found]),
+                     finite_min(roads) if roads else None, worst.offset_m, worst.reason + where)
 
 
 def evaluate_batch(

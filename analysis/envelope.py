@@ -385,8 +385,13 @@ def swept_widths(
     envelope: BaseGeometry,
     run: TrackingRun,
     width_step_m: float = DEFAULT_WIDTH_STEP_M,
+    stations_m: tuple[float, float] | None = None,
 ) -> FloatArray:
     """Swept width along the centre line, ``(K, 2)`` rows of (station m, width m).
+
+    With ``stations_m`` (e.g. the feature's ``core_start_m``, ``core_end_m``) only the
+    stations between those two count (at least the one nearest to them, when none lies
+    between: the widths are never empty).
 
     Each station's normal line is cut with every boundary segment of the envelope; the
     nearest crossings on either side of the centre-line point bound the piece that contains
@@ -406,6 +411,11 @@ def swept_widths(
     last = float(min(path.length_m, np.max(run.trajectory.s_m)))
     k = max(2, math.ceil(last / width_step_m - 1e-9) + 1)
     stations = np.linspace(0.0, last, k)
+    if stations_m is not None:
+        inside = (stations >= stations_m[0] - 1e-9) & (stations <= stations_m[1] + 1e-9)
+        mid = 0.5 * (stations_m[0] + stations_m[1])
+        stations = stations[inside] if inside.any() else stations[[np.argmin(
+            np.abs(stations - mid))]]
     p = path.point_at(stations)
     h = path.heading_at(stations)
     a, b = ring_segments(envelope)
@@ -419,6 +429,7 @@ def swept_path(
     run: TrackingRun,
     tolerance_m: float = DEFAULT_TOLERANCE_M,
     width_step_m: float = DEFAULT_WIDTH_STEP_M,
+    stations_m: tuple[float, float] | None = None,
 ) -> SweptPath:
     """Envelope, wheel tracks, offtracking and swept width of one run.
 
@@ -430,6 +441,8 @@ def swept_path(
         Largest gap between the true swept area and the envelope polygon (m).
     width_step_m
         Distance between the stations where the swept width is measured (m).
+    stations_m
+        Only the stations between these two (m) are measured (:func:`swept_widths`).
 
     Examples
     --------
@@ -462,7 +475,7 @@ def swept_path(
         off_t = _offtracking(tr.xf_m, tr.yf_m, tr.xt_m, tr.yt_m, theta0)
     else:
         envelope = tractor
-    widths = swept_widths(envelope, run, width_step_m)
+    widths = swept_widths(envelope, run, width_step_m, stations_m)
     i_w = int(np.argmax(widths[:, 1]))
     return SweptPath(
         envelope=envelope,

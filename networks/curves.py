@@ -41,6 +41,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 from shapely.geometry.base import BaseGeometry
 
+from analysis.levels import Level
 from networks.elevation import drop_suspect_elevation
 from networks.geometry import (
     arc_length,
@@ -157,6 +158,7 @@ class Curve:
     _own: BaseGeometry | None = field(default=None, init=False, repr=False)
     _roadway: BaseGeometry | None = field(default=None, init=False, repr=False)
     _paved: BaseGeometry | None = field(default=None, init=False, repr=False)
+    _levels: tuple[Level, ...] | None = field(default=None, init=False, repr=False)
 
     @property
     def profile_s_m(self) -> np.ndarray:
@@ -184,16 +186,27 @@ class Curve:
             self.area_book.load(self.area_batch)
         return self._paved
 
+    @property
+    def levels(self) -> tuple[Level, ...]:
+        """The curve's level segments with their storeys' areas (docs/design.md §6,
+        "Levels"; :func:`networks.area_book.curve_levels`): none on a flat network."""
+        if self._levels is None:
+            self._levels = self.area_book.levels(self) if self.area_book is not None else ()
+        return self._levels
+
     def set_areas(
         self,
         own_lanes: BaseGeometry | None,
         roadway: BaseGeometry | None,
         paved: BaseGeometry | None,
         book: AreaBook | None = None,
+        levels: tuple[Level, ...] | None = None,
     ) -> None:
         """Give the curve its three areas. Without ``book`` they are the curve's for good;
-        with it, they are that book's to release (and to build again when asked)."""
+        with it, they are that book's to release (and to build again when asked).
+        ``levels`` (its level segments) are kept likewise; None: found again when asked."""
         self._own, self._roadway, self._paved = own_lanes, roadway, paved
+        self._levels = levels
         self.area_book = book
 
 

@@ -106,7 +106,7 @@ def detached(curve: Curve) -> Curve:
     """A copy of ``curve`` that holds its own areas (none of the network's area book), so
     that it can be pickled on its own."""
     out = copy.copy(curve)
-    out.set_areas(curve.own_lanes, curve.roadway, curve.paved)
+    out.set_areas(curve.own_lanes, curve.roadway, curve.paved, levels=curve.levels)
     return out
 
 

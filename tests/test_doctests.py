@@ -31,7 +31,7 @@ def test_docstring_examples(name: str) -> None:
 def test_the_geometry_modules_have_examples() -> None:
     for name in ("vehicles.steering", "vehicles.lock", "analysis.turning",
                  "analysis.control_law", "analysis.kinematics", "analysis.polyline",
-                 "analysis.envelope", "analysis.clearance", "networks.geometry",
+                 "analysis.envelope", "analysis.clearance", "analysis.levels", "networks.geometry",
                  "reports.analytic", "reports.templates"):
         finder = doctest.DocTestFinder()
         tests = finder.find(importlib.import_module(name))

@@ -22,7 +22,7 @@ __all__ = ["COMMON_OPTIONS", "OPTIONS", "SAMPLES", "SAMPLES_DIR", "VIEWS", "buil
            "sources"]
 
 SAMPLES_DIR = Path(__file__).resolve().parent
-SAMPLES = ("intersection", "roundabout", "parking_ramp")
+SAMPLES = ("intersection", "roundabout", "parking_ramp", "helix", "garage")
 
 #: netconvert options shared by every sample.
 COMMON_OPTIONS = (
@@ -46,6 +46,8 @@ VIEWS: dict[str, list[tuple[str, tuple[float, float, float, float] | None]]] = {
         ("compact roundabout C (ICD 26 m)", (250.0, 350.0, -50.0, 50.0)),
     ],
     "parking_ramp": [("helix: R 7.5 m, 3 m rise per turn, 2.25 turns", None)],
+    "helix": [("helix: R 9 m, 3.2 m per turn, 3 turns", None)],
+    "garage": [("garage: aisle (z 0), ramp, deck above (z 3.5)", None)],
 }
 
 #: Extra options per sample.
@@ -53,6 +55,8 @@ OPTIONS: dict[str, tuple[str, ...]] = {
     "intersection": (),
     "roundabout": (),
     "parking_ramp": (),
+    "helix": (),
+    "garage": (),
 }
 
 

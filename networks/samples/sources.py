@@ -17,10 +17,13 @@ from pathlib import Path
 
 import numpy as np
 
-__all__ = ["Corners", "HELIX_LANE_M", "HELIX_RADIUS_M", "HELIX_RISE_PER_TURN_M", "HELIX_TURNS",
-           "INTERSECTION_CORNERS", "Point", "ROUNDABOUTS", "RingDesign", "SAMPLES_DIR",
-           "TEE_TIGHT_CORNER_M", "TEE_WIDE_CORNER_M", "WRITERS", "arc", "fmt", "four_leg", "main",
-           "ring", "tee", "write_intersection", "write_parking_ramp", "write_roundabout"]
+__all__ = ["Corners", "GARAGE_AISLE_M", "GARAGE_CORNER_M", "GARAGE_DECK_M", "GARAGE_RADIUS_M",
+           "GARAGE_RAMP_M", "GARAGE_STOREY_M", "HELIX_LANE_M", "HELIX_RADIUS_M",
+           "HELIX_RISE_PER_TURN_M", "HELIX_TURNS", "INTERSECTION_CORNERS", "LEVEL_HELIX_LANE_M",
+           "LEVEL_HELIX_RADIUS_M", "LEVEL_HELIX_RISE_PER_TURN_M", "LEVEL_HELIX_TURNS", "Point",
+           "ROUNDABOUTS", "RingDesign", "SAMPLES_DIR", "TEE_TIGHT_CORNER_M", "TEE_WIDE_CORNER_M",
+           "WRITERS", "arc", "fmt", "four_leg", "main", "ring", "tee", "write_garage",
+           "write_helix", "write_intersection", "write_parking_ramp", "write_roundabout"]
 
 SAMPLES_DIR = Path(__file__).resolve().parent
 
@@ -431,10 +434,144 @@ def write_parking_ramp(directory: Path) -> None:
     _write(directory, "parking_ramp", nodes, edges)
 
 
+# --------------------------------------------------------------------------- helix
+
+#: The ``helix`` sample (issue 17): three turns of radius 9 m, 3.5 m lane, 3.2 m per turn.
+LEVEL_HELIX_RADIUS_M = 9.0
+LEVEL_HELIX_RISE_PER_TURN_M = 3.2
+LEVEL_HELIX_TURNS = 3
+LEVEL_HELIX_LANE_M = 3.5
+
+
+def _helix_points(
+    centre: tuple[float, float], radius_m: float, a0_deg: float, turn_deg: float,
+    z0_m: float, z1_m: float, step_deg: float = 5.0,
+) -> list[Point]:
+    """Points of a helix (an arc whose z rises linearly from ``z0_m`` to ``z1_m``).
+
+    Examples
+    --------
+    >>> [tuple(round(v, 3) for v in p) for p in _helix_points((0, 0), 2.0, 0, 180, 0, 1, 90)]
+    [(2.0, 0.0, 0.0), (0.0, 2.0, 0.5), (-2.0, 0.0, 1.0)]
+    """
+    n = max(int(math.ceil(abs(turn_deg) / step_deg)), 1)
+    a = np.linspace(a0_deg, a0_deg + turn_deg, n + 1)
+    z = np.linspace(z0_m, z1_m, n + 1)
+    return [(centre[0] + radius_m * math.cos(math.radians(t)),
+             centre[1] + radius_m * math.sin(math.radians(t)), float(h))
+            for t, h in zip(a, z, strict=True)]
+
+
+def write_helix(directory: Path) -> None:
+    """The ``helix`` sample: a one-way helix of :data:`LEVEL_HELIX_TURNS` turns, in and out
+    by straights. It starts and ends heading east at the bottom of its circle, so that in
+    plan its turns lie on each other and the exit straight lies over the first turn's
+    start, one storey per turn above it."""
+    r, lead = LEVEL_HELIX_RADIUS_M, 15.0
+    top = LEVEL_HELIX_RISE_PER_TURN_M * LEVEL_HELIX_TURNS
+    helix = _helix_points((0.0, 0.0), r, -90.0, 360.0 * LEVEL_HELIX_TURNS, 0.0, top)
+    pts = [(-lead, -r, 0.0), *helix, (lead, -r, top)]
+    nodes = [
+        f'<node id="A" x="{-lead - 30:.3f}" y="{-r:.3f}" z="0"/>',
+        f'<node id="H0" x="{-lead:.3f}" y="{-r:.3f}" z="0"/>',
+        f'<node id="H1" x="{lead:.3f}" y="{-r:.3f}" z="{top:.3f}"/>',
+        f'<node id="B" x="{lead + 30:.3f}" y="{-r:.3f}" z="{top:.3f}"/>',
+    ]
+    attrs = f'numLanes="1" width="{LEVEL_HELIX_LANE_M}" speed="4.17" spreadType="center"'
+    edges = [
+        f'<edge id="approach" from="A" to="H0" {attrs}/>',
+        f'<edge id="helix" from="H0" to="H1" {attrs} shape="{fmt(pts)}"/>',
+        f'<edge id="exit" from="H1" to="B" {attrs}/>',
+    ]
+    _write(directory, "helix", nodes, edges)
+
+
+# --------------------------------------------------------------------------- garage
+
+#: The ``garage`` sample (issue 17): storey height, the lanes' widths, the turnaround's
+#: radius and the radius of the upper floor's corner.
+GARAGE_STOREY_M = 3.5
+GARAGE_AISLE_M = 6.5
+GARAGE_DECK_M = 3.0
+GARAGE_RAMP_M = 3.5
+GARAGE_RADIUS_M = 10.0
+GARAGE_CORNER_M = 6.6
+
+
+def _teardrop(radius_m: float, step_deg: float = 5.0) -> list[Point]:
+    """A turnaround from (0, 0) heading east back to (0, 0) heading west: right 60 degrees,
+    left 300 degrees, right 60 degrees, all of ``radius_m`` (its neck is the origin).
+
+    Examples
+    --------
+    >>> t = _teardrop(9.0)
+    >>> [round(v, 6) + 0.0 for v in t[0] + t[-1]]
+    [0.0, 0.0, 0.0, 0.0]
+    """
+    r = radius_m
+    a = arc((0.0, -r), r, 90.0, 30.0, step_deg)
+    b = arc((math.sqrt(3.0) * r, 0.0), r, 210.0, 510.0, step_deg)
+    c = arc((0.0, r), r, -30.0, -90.0, step_deg)
+    return [*a, *b[1:], *c[1:]]
+
+
+def write_garage(directory: Path) -> None:
+    """The ``garage`` sample: two storeys joined by a ramp that turns round in a teardrop.
+
+    The lower floor's aisle (z 0) comes north; the ramp begins with a wide bend to the
+    right (radius 14.4 m, the aisle's width, and 15 m straight on), rises one storey round
+    the teardrop, comes back west above its own start and turns left round a tight corner
+    (radius :data:`GARAGE_CORNER_M`) onto the narrow deck lane, which runs south exactly
+    above the aisle. The wide bend passes under the inside of that corner: in plan the ramp's own
+    lanes there cover the inside of the corner, where a vehicle offtracks, so judged in
+    plan it stays on its own lanes; judged by level it leaves the only lane of its floor."""
+    r, c = GARAGE_RADIUS_M, GARAGE_CORNER_M
+    corner = (-30.0, -c)  # the upper corner's centre: from heading west to heading south
+    d = 11.0  # the wide bend's centre lies this far from the corner's, away from its inside
+    bend_r = c + d / math.sqrt(2.0)  # its top is at y = 0, its west point under the deck
+    bend = (corner[0] + d / math.sqrt(2.0), corner[1] - d / math.sqrt(2.0))
+    x_deck = corner[0] - c
+    # the wide lane goes on 15 m past the bend before the ramp narrows (node B), so that
+    # a vehicle reaches B straightened out
+    bend_pts = arc(bend, bend_r, 180.0, 90.0)
+    plan = [(x_deck, bend[1]), *bend_pts[1:], (bend[0] + 15.0, 0.0), *_teardrop(r),
+            *arc(corner, c, 90.0, 180.0), (x_deck, -20.0)]
+    xy = np.array(plan)
+    s = np.concatenate(([0.0], np.cumsum(np.hypot(*np.diff(xy, axis=0).T))))
+    z = GARAGE_STOREY_M * s / s[-1]
+    pts = [(float(x), float(y), float(h)) for (x, y), h in zip(plan, z, strict=True)]
+    # cut where the bend ends (node B) and at the apex (node M): netconvert cuts an edge
+    # where it passes over its own end junctions in plan, whatever the level, and the
+    # ramp's return passes over B
+    b = len(bend_pts)
+    apex = int(np.argmax(xy[:, 0]))
+    u = pts[-1]
+    nodes = [
+        f'<node id="A" x="{x_deck:.3f}" y="-70.000" z="0"/>',
+        f'<node id="S" x="{x_deck:.3f}" y="{bend[1]:.3f}" z="0"/>',
+        f'<node id="B" x="{pts[b][0]:.3f}" y="{pts[b][1]:.3f}" z="{pts[b][2]:.3f}"/>',
+        f'<node id="M" x="{pts[apex][0]:.3f}" y="{pts[apex][1]:.3f}" z="{pts[apex][2]:.3f}"/>',
+        f'<node id="U" x="{u[0]:.3f}" y="{u[1]:.3f}" z="{u[2]:.3f}"/>',
+        f'<node id="D" x="{u[0]:.3f}" y="-50.000" z="{u[2]:.3f}"/>',
+    ]
+    common = 'numLanes="1" speed="4.17" spreadType="center"'
+    wide, ramp = f'{common} width="{GARAGE_AISLE_M}"', f'{common} width="{GARAGE_RAMP_M}"'
+    edges = [
+        f'<edge id="aisle" from="A" to="S" {wide}/>',
+        f'<edge id="ramp_in" from="S" to="B" {wide} shape="{fmt(pts[: b + 1])}"/>',
+        f'<edge id="ramp_up" from="B" to="M" {ramp} shape="{fmt(pts[b: apex + 1])}"/>',
+        f'<edge id="ramp_down" from="M" to="U" {ramp} shape="{fmt(pts[apex:])}"/>',
+        f'<edge id="deck" from="U" to="D" {common} width="{GARAGE_DECK_M}"/>',
+    ]
+    _write(directory, "garage", nodes, edges)
+
+
 WRITERS = {
     "intersection": write_intersection,
     "roundabout": write_roundabout,
     "parking_ramp": write_parking_ramp,
+    "helix": write_helix,
+    "garage": write_garage,
 }
 
 

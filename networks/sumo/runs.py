@@ -254,6 +254,6 @@ def curve_areas(curve: Curve) -> Areas:
     if curve.own_lanes is None or curve.paved is None:
         raise InputError(f"curve {curve.curve_id}: no areas (extract curves with areas=True)")
     try:
-        return Areas(curve.own_lanes, curve.paved, curve.roadway)
+        return Areas(curve.own_lanes, curve.paved, curve.roadway, levels=curve.levels)
     except InputError as exc:
         raise InputError(f"curve {curve.curve_id}: {exc}") from None

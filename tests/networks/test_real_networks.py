@@ -7,6 +7,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+import shapely
 
 from networks.curves import CurveOptions, extract_curves
 from networks.reader import read_network
@@ -165,3 +166,70 @@ def test_real_network_judged_in_the_feature_and_mostly_drivable(bologna_p):
     # 45 % of every curve before issue 13; 23.6 % of the permitted ones on the lane centre
     # line, 9.9 % with the swung paths (issue 13 asks for under 15 %)
     assert bad / len(judged) < 0.15
+
+
+def test_real_network_is_flat_and_its_levels_would_be_its_plan_areas():
+    # bologna_joined has no heights: judged in plan as before (no levels at all), and the
+    # levels' member lists rebuild exactly the plan areas (forced into one storey)
+    from networks.area_book import curve_levels, network_is_flat
+    from networks.area_groups import AreaIndex
+
+    net = read_network(_realnet("bologna_joined.net.xml.gz"))
+    assert network_is_flat(net)
+    curves = extract_curves(net, ["turn", "roundabout", "bend"])
+    assert all(c.levels == () for c in curves[::10])
+    index = AreaIndex(net)
+    checked = 0
+    for c in curves[::15]:
+        (lv,) = curve_levels(index, c, force=True)
+        for mine, plan in ((lv.areas.own_lanes, c.own_lanes), (lv.areas.paved, c.paved),
+                           (lv.areas.roadway, c.roadway)):
+            assert shapely.symmetric_difference(mine, plan).area <= 1e-6 * plan.area, c.curve_id
+        checked += 1
+    assert checked > 20
+
+
+def test_real_network_turn_is_not_judged_against_a_street_lifted_5_m():
+    # lift one street (both directions) at a junction of bologna_joined by 5 m, as a bridge
+    # over the junction's other streets: the junction's other turns no longer meet it
+    from networks.area_book import curve_levels
+    from networks.area_groups import AreaIndex
+    from networks.areas import lane_polygons
+
+    net = read_network(_realnet("bologna_joined.net.xml.gz"))
+    curves = extract_curves(net, ["turn"])
+    index = AreaIndex(net)
+    found = None
+    for c in curves:
+        j = c.junction
+        plain = set(index.plain_edges(c.lanes) or ())
+        for e in index.incident.get(j, []):
+            edge = net.edges[e]
+            if e in plain or net.lanes[edge.lanes[0]].length_m < 30.0:
+                continue
+            pair = {e} | {x for x in index.incident[j] if {net.edges[x].from_junction,
+                          net.edges[x].to_junction} == {edge.from_junction, edge.to_junction}}
+            if pair & plain:
+                continue
+            shape = net.lanes[edge.lanes[0]].shape
+            s = np.concatenate(([0.0], np.cumsum(np.hypot(*np.diff(shape[:, :2], axis=0).T))))
+            at = 0.7 * s[-1] if edge.to_junction != j else 0.3 * s[-1]
+            pt = shapely.Point(np.interp(at, s, shape[:, 0]), np.interp(at, s, shape[:, 1]))
+            others = [k for x in index.incident[j] if x not in pair for k in net.edges[x].lanes]
+            others += index.internal.get(j, []) + list(c.lanes)
+            near = shapely.union_all(lane_polygons(net, others, "round"))
+            if near.distance(pt) > 1.0 and c.paved.covers(pt):
+                found = (c, pair, pt)
+                break
+        if found:
+            break
+    assert found, "a junction with a street to lift"
+    c, pair, pt = found
+    for e in pair:
+        for k in net.edges[e].lanes:
+            net.lanes[k].shape[:, 2] += 5.0
+    levels = curve_levels(AreaIndex(net), c)
+    assert levels, "the members now span 5 m: the curve has levels"
+    at_turn = [lv for lv in levels if lv.z_lo_m <= c.centerline[0, 2] <= lv.z_hi_m + 1e-9]
+    assert at_turn and not at_turn[0].areas.paved.covers(pt)
+    assert at_turn[0].areas.paved.covers(c.own_lanes.buffer(-0.01))

@@ -100,6 +100,35 @@ def test_parking_ramp_helix():
     assert ramp.lane_width_m == sources.HELIX_LANE_M
 
 
+def test_helix_sample_turns_on_itself():
+    net = _sample("helix")
+    (ramp,) = extract_curves(net, ["ramp"])
+    assert ramp.min_radius_m == pytest.approx(sources.LEVEL_HELIX_RADIUS_M, rel=0.03)
+    grade = 100 * sources.LEVEL_HELIX_RISE_PER_TURN_M / (2 * math.pi * sources.LEVEL_HELIX_RADIUS_M)
+    assert ramp.max_grade_pct == pytest.approx(grade, abs=0.5)
+    assert ramp.turn_angle_deg == pytest.approx(360 * sources.LEVEL_HELIX_TURNS, abs=2.0)
+    z = ramp.centerline[:, 2]
+    top = sources.LEVEL_HELIX_RISE_PER_TURN_M * sources.LEVEL_HELIX_TURNS
+    assert z.min() == pytest.approx(0.0, abs=0.01) and z.max() == pytest.approx(top, abs=0.01)
+    # the run ends where it began in plan, 9.6 m higher (the exit over the first turn)
+    start = ramp.centerline[np.argmin(np.hypot(*(ramp.centerline[:, :2] - [0.0, -9.0]).T))]
+    assert start[2] < 0.5
+
+
+def test_garage_sample_deck_lies_above_the_aisle():
+    net = _sample("garage")
+    (ramp,) = extract_curves(net, ["ramp"])
+    assert ramp.min_radius_m == pytest.approx(sources.GARAGE_CORNER_M, rel=0.03)
+    assert ramp.lane_width_m == sources.GARAGE_RAMP_M
+    assert ramp.lanes[0] == "aisle_0" and ramp.lanes[-1] == "deck_0"
+    aisle, deck = net.lanes["aisle_0"], net.lanes["deck_0"]
+    assert aisle.width_m == sources.GARAGE_AISLE_M and deck.width_m == sources.GARAGE_DECK_M
+    # the deck's centre line is the aisle's, a storey up
+    assert np.allclose(aisle.shape[:, 0], deck.shape[0, 0], atol=0.01)
+    assert np.allclose(deck.shape[:, 2] - aisle.shape[:, 2].max(), sources.GARAGE_STOREY_M,
+                       atol=0.01)
+
+
 def test_plan_figure_is_drawn(tmp_path):
     from networks.plot import save_plan
 

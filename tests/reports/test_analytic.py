@@ -54,3 +54,24 @@ def test_analytic_is_less_severe_only_where_the_transient_cannot_turn(compared):
     # and the short-turn side: more severe only by its steady-state offtracking, never by
     # calling clear what the driven vehicle could not do
     assert all(sim != "cannot-turn" for _, _, sim, _ in more)
+
+
+def test_analytic_judges_the_garage_ramp_by_level():
+    # the steady band round the garage's tight upper corner (radius 6.6 m) reaches inside
+    # its lane, over the ramp's own wide bend on the floor below: clear in plan, fails on
+    # the corner's own floor
+    import copy
+
+    from networks.samples.build import SAMPLES_DIR
+
+    net = read_network(SAMPLES_DIR / "garage" / "garage.net.xml")
+    (ramp,) = extract_curves(net, ["ramp"], options=CurveOptions(approach_length_m=APPROACH_M))
+    p = load_tables([bundled_table("aashto_green_book")], ["P"]).vehicle("P")
+    by_level = run_analytic(p, ramp).clearance
+    assert ramp.levels and by_level.verdict == "fails"
+    assert by_level.paved_margin_m == pytest.approx(-0.26, abs=0.03)
+    assert "on the level at 2.5 m" in by_level.reason
+    plan = copy.copy(ramp)
+    plan.set_areas(ramp.own_lanes, ramp.roadway, ramp.paved, levels=())
+    in_plan = run_analytic(p, plan).clearance
+    assert in_plan.verdict == "clear" and in_plan.margin_m > 0.03
