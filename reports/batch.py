@@ -32,6 +32,7 @@ from shapely.geometry.base import BaseGeometry
 
 from analysis.path_search import encroaches_on
 from analysis.tracking import TrackingSettings
+from networks.area_book import curve_levels, network_is_flat
 from networks.area_groups import AreaIndex
 from networks.areas import build_areas
 from networks.curves import Curve
@@ -122,14 +123,20 @@ def bare(curve: Curve) -> Curve:
 def with_areas(net: Network, curves: Sequence[Curve]) -> None:
     """Give every curve of ``curves`` that has no areas its three areas, built in this
     process from ``net`` (the same geometry as the parent's: :func:`networks.areas.build_areas`
-    makes an area the same whichever batch builds it)."""
+    makes an area the same whichever batch builds it), with its level segments on a network
+    with storeys."""
     todo = list({id(c): c for c in curves
                  if c.area_book is None and c._own is None}.values())
     if not todo:
         return
-    own, roadway, paved = build_areas(_area_index(net), todo)
+    index = _area_index(net)
+    if id(net) not in _FLAT:
+        _FLAT[id(net)] = network_is_flat(net)
+    own, roadway, paved = build_areas(index, todo)
     for c, o, r, p in zip(todo, own, roadway, paved, strict=True):
-        c.set_areas(o, r, p)
+        c.set_areas(o, r, p)  # flat: no levels (judged in plan)
+        if not _FLAT[id(net)]:  # the storeys' areas too (docs/design.md §6, "Levels")
+            c.set_areas(o, r, p, levels=curve_levels(index, c))
 
 
 def split_batch(batch: Batch) -> list[Batch]:
@@ -204,11 +211,14 @@ class StudyInputError(InputError):
 _NETWORKS: dict[tuple[str, str], Network] = {}
 #: The area topology of each network of :data:`_NETWORKS` (by the network's id).
 _INDEXES: dict[int, AreaIndex] = {}
+#: Whether each network of :data:`_INDEXES` is flat (judged in plan, no levels).
+_FLAT: dict[int, bool] = {}
 
 
 def _area_index(net: Network) -> AreaIndex:
     if id(net) not in _INDEXES:
         _INDEXES.clear()
+        _FLAT.clear()
         _INDEXES[id(net)] = AreaIndex(net)
     return _INDEXES[id(net)]
 

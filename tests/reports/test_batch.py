@@ -15,6 +15,7 @@ from reports.cmd_report import sample_networks
 from vehicles.table import bundled_table_paths, load_tables
 
 NET = next(p for p in sample_networks() if p.stem.startswith("intersection"))
+SAMPLES = NET.parent.parent
 
 
 @pytest.fixture(scope="module")
@@ -96,3 +97,23 @@ def test_a_worker_builds_the_areas_of_bare_curves_as_the_parent_does():
     for ra, rb in zip(a, b, strict=True):
         assert ra.conflict is not None
         assert [g.wkb for g in ra.conflict] == [g.wkb for g in rb.conflict]
+
+
+def test_a_worker_gives_bare_curves_of_a_garage_their_storeys():
+    """On a network with storeys the worker builds each curve's levels as the parent's
+    area book does: the same segments, the same storey areas; a flat network gets none."""
+    from reports.batch import bare, with_areas
+
+    helix = SAMPLES / "helix" / "helix.net.xml"
+    net = read_network(helix)
+    parent = [c for c in extract_curves(net) if c.kind == "ramp"]
+    assert parent and all(len(c.levels) > 1 for c in parent)
+    sent = [bare(c) for c in parent]
+    with_areas(worker_network((str(helix), None)), sent)
+    for p, s in zip(parent, sent, strict=True):
+        assert [lv.z_m for lv in s.levels] == [lv.z_m for lv in p.levels], p.curve_id
+        assert all(a.areas.own_lanes.wkb == b.areas.own_lanes.wkb
+                   for a, b in zip(s.levels, p.levels, strict=True))
+    flat = [bare(c) for c in extract_curves(read_network(NET))[:3]]
+    with_areas(worker_network((str(NET), None)), flat)
+    assert all(c.levels == () for c in flat)
