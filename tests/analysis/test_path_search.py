@@ -124,3 +124,50 @@ def test_rank_prefers_the_better_area_then_the_margin():
     assert rank([_c("cannot-turn", -1.0, -0.3, -0.8), None, None]) == 0
     assert [encroaches_on(c) for c in (lane, opposing, own_road)] == [
         "shoulder", "opposing lanes", "same-direction lanes"]
+
+
+def test_inside_cut_is_the_wider_radius_a_car_takes_across_a_junction(car):
+    # a right-angle turn drawn with a 3 m radius (SUMO's internal lane at an OSM corner):
+    # tighter than P's lock, so the lane path cannot be followed; cutting the corner
+    # across the junction, on the same approach and exit lanes, opens it to a radius P
+    # can take
+    path, feature = corner_path(3.0, smooth=False)
+    limit = math.sin(car.max_steer_rad) / car.wheelbase_m  # 1 / 6.4 m
+    assert max_curvature_1_m(path) > 1.5 * limit
+    cs = candidates(path, feature, -90.0, room_m=0.3, rooms_m=(0.3, 6.0, 0.3),
+                    inside_room_m=4.0)
+    inside = [c for c in cs if c.shape == "inside"]
+    # leaving the line 2, 4, 8 m before the corner: arcs of about 5, 7, 11 m whose apexes
+    # are (R' - 3)(sqrt 2 - 1) inside: 0.8, 1.7, 3.3 m (16 m would cut 6.6 m: beyond the room)
+    depths = [c.inside_m for c in inside]
+    assert depths == pytest.approx([0.83, 1.66, 3.31], abs=0.05)
+    assert all(c.offset_m.max() <= 1e-9 for c in inside)  # right of a right turn
+    radii = [1 / max_curvature_1_m(c.path) for c in inside]
+    assert radii == pytest.approx([5.0, 7.0, 11.0], rel=0.03)
+    lane_run, *runs = simulate_batch([car], [path] + [c.path for c in inside])
+    assert lane_run.cannot_turn
+    # 7 m and 11 m are within the lock (6.4 m); the 5 m arc only within the tolerance
+    assert [max_curvature_1_m(c.path) < limit for c in inside] == [False, True, True]
+    assert all(r.followed for r in runs)
+    # judged over the whole manoeuvre: from where it leaves the line to where it rejoins
+    assert inside[1].window_m[0] == pytest.approx(feature[0] - 4.0, abs=0.05)
+
+
+def test_fitted_swing_follows_the_room_at_each_end():
+    # 3 m of room on the approach (an opposing lane), 0.5 m at the exit (one lane): the
+    # fitted shapes swing f 3 m out before the turn and f 0.5 m after it
+    path, feature = corner_path(4.0)
+    cs = candidates(path, feature, -90.0, room_m=0.5, rooms_m=(3.0, 6.0, 0.5))
+    fitted = [c for c in cs if c.shape == "fitted"]
+    assert [(c.amplitude_m, c.exit_m) for c in fitted] == [
+        (0.75, 0.125), (1.5, 0.25), (2.25, 0.375), (3.0, 0.5)]
+    top = fitted[-1]
+    s = path.station_m
+    at = lambda x: float(np.interp(x, s, top.offset_m))  # noqa: E731
+    # times 1 - 0.3 sin^2 (the middle apex cut) from the ramps' middles
+    assert 0.7 * 3.0 < at(feature[0]) < 3.0 and 0.7 * 0.5 < at(feature[1]) < 0.5
+    assert at(feature[0] - 6.0) == pytest.approx(3.0 * 0.5, abs=0.01)  # the cut starts there
+    assert at(0.0) == 0.0 and at(s[-1]) == 0.0
+    # equal rooms: no fitted shape (it would be a held one)
+    same = candidates(path, feature, -90.0, room_m=2.0, rooms_m=(2.0, 6.0, 2.1))
+    assert not [c for c in same if c.shape == "fitted"]
