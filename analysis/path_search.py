@@ -42,9 +42,9 @@ Two more shapes fit the room where it differs along the turn (:attr:`SwingSearch
   line at both ends, as round as a circular arc where the two tangents are alike) to ``t``
   after it, then the centre line again: a wider radius tangent to the same approach and
   exit lanes, the path a car takes across the middle of a junction whose drawn lane turns
-  tighter than it can (:func:`corner_cut`; ``t = inside_step_m 2^(k - 1)``: 2, 4, 8, 16 m). Kept where its
-  deepest cut, inside the feature, is within the room toward the inside at the feature's
-  middle.
+  tighter than it can (:func:`corner_cut`; ``t = inside_step_m 2^(k - 1)``: 2, 4, 8,
+  16 m). Kept where its deepest cut, inside the feature, is within the room toward the
+  inside at the feature's middle.
 
 The offset path is the smoothed centre line's points moved along its normals,
 ``p + d n``; the profile and the centre line are smooth, so the offset is too (its
@@ -80,9 +80,10 @@ from analysis.polyline import Path, prepare_path
 from vehicles.errors import InputError
 
 __all__ = ["BETTER_BY_M", "Candidate", "ENCROACHED", "FITTED_MIN_M", "MIN_FOLD", "SwingSearch",
-           "TIERS", "candidates", "decisive_margin", "encroaches_on", "max_curvature_1_m",
-           "corner_cut", "offset_path", "offset_profile", "outside_room_m", "outside_rooms_m", "outside_sign",
-           "ramp_bounds", "rank", "shaped_profile", "swing_reason", "tier"]
+           "TIERS", "candidates", "corner_cut", "decisive_margin", "encroaches_on",
+           "max_curvature_1_m", "offset_path", "offset_profile", "outside_room_m",
+           "outside_rooms_m", "outside_sign", "ramp_bounds", "rank", "shaped_profile",
+           "swing_reason", "tier"]
 
 FloatArray = NDArray[np.float64]
 
