@@ -165,3 +165,22 @@ def test_real_network_judged_in_the_feature_and_mostly_drivable(bologna_p):
     # 45 % of every curve before issue 13; 23.6 % of the permitted ones on the lane centre
     # line, 9.9 % with the swung paths (issue 13 asks for under 15 %)
     assert bad / len(judged) < 0.15
+
+
+def test_a10kw_u_turns_onto_the_other_carriageway_are_uturns():
+    # SUMO marks these "l" and "s": a 143 degree turn back round a median's nose onto the
+    # other carriageway, and a 160 degree turning loop; both run back alongside their
+    # approach, as U-turns do, and are left out of a study with the dir="t" turnarounds
+    net = read_network(_game_net("A10KW/osm.net.xml"))
+    dirs = {(c.from_edge, c.to_edge): c.direction for c in net.connections}
+    assert dirs[("225981818#3", "-256366931#3")] == "l"
+    assert dirs[("6272844#4", "5067107#1")] == "s"
+    turns = {c.curve_id for c in extract_curves(net, ("turn",), areas=False)}
+    uturns = {c.curve_id: c for c in extract_curves(net, ("uturn",), areas=False)}
+    for tail in ("59909485:225981818#3_0->-256366931#3_0", "2289456329:6272844#4_0->5067107#1_0"):
+        assert f"uturn:{tail}" in uturns and f"turn:{tail}" not in turns
+        assert abs(uturns[f"uturn:{tail}"].turn_angle_deg) > 135
+    # a sharp turn that does not come back alongside stays a turn
+    sharp = [c for c in extract_curves(net, ("turn",), areas=False)
+             if abs(c.turn_angle_deg) > 120]
+    assert sharp, "A10KW has sharp turns that are not U-turns"
