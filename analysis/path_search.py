@@ -44,7 +44,10 @@ Two more shapes fit the room where it differs along the turn (:attr:`SwingSearch
   exit lanes, the path a car takes across the middle of a junction whose drawn lane turns
   tighter than it can (:func:`corner_cut`; ``t = inside_step_m 2^(k - 1)``: 2, 4, 8,
   16 m). Kept where its deepest cut, inside the feature, is within the room toward the
-  inside at the feature's middle.
+  inside at the feature's middle. A feature that is not one corner (it turns the other way
+  somewhere, tighter than :data:`REVERSE_RADIUS_M`, as a roundabout's entry and exit do, or
+  turns back by more than 150°) is cut instead by ``d = -B sin^2(pi (s - a) / (e - a))``
+  over the whole manoeuvre (:func:`apex_bump`, ``B = f room_inside``, ramps as for ``B``).
 
 The offset path is the smoothed centre line's points moved along its normals,
 ``p + d n``; the profile and the centre line are smooth, so the offset is too (its
@@ -65,7 +68,6 @@ better by a whole tier, or by more than :data:`BETTER_BY_M` in the same tier.
 
 from __future__ import annotations
 
-import dataclasses
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass
@@ -76,13 +78,21 @@ from numpy.typing import NDArray
 from shapely.geometry.base import BaseGeometry
 
 from analysis.clearance import Clearance
-from analysis.polyline import Path, prepare_path
+from analysis.path_shapes import (
+    apex_bump,
+    corner_cut,
+    moved,
+    offset_path,
+    offset_profile,
+    ramp_bounds,
+    shaped_profile,
+)
+from analysis.polyline import Path
 from vehicles.errors import InputError
 
-__all__ = ["BETTER_BY_M", "Candidate", "ENCROACHED", "FITTED_MIN_M", "MIN_FOLD", "SwingSearch",
-           "TIERS", "candidates", "corner_cut", "decisive_margin", "encroaches_on",
-           "max_curvature_1_m", "offset_path", "offset_profile", "outside_room_m",
-           "outside_rooms_m", "outside_sign", "ramp_bounds", "rank", "shaped_profile",
+__all__ = ["BETTER_BY_M", "Candidate", "ENCROACHED", "FITTED_MIN_M", "MIN_FOLD",
+           "REVERSE_RADIUS_M", "SwingSearch", "TIERS", "candidates", "decisive_margin",
+           "encroaches_on", "outside_room_m", "outside_rooms_m", "outside_sign", "rank",
            "swing_reason", "tier"]
 
 FloatArray = NDArray[np.float64]
@@ -92,6 +102,9 @@ BETTER_BY_M = 0.05
 
 FITTED_MIN_M = 0.25
 """The fitted shape is tried only where the rooms at the feature's ends differ by more (m)."""
+
+REVERSE_RADIUS_M = 50.0
+"""A feature that turns against its turn tighter than this somewhere is not one corner."""
 
 MIN_FOLD = 0.2
 """A candidate is left out where ``1 - kappa d`` (the offset's stretch) falls to this."""
@@ -213,6 +226,7 @@ class Candidate:
 
         Examples
         --------
+        >>> from analysis.polyline import prepare_path
         >>> z = np.zeros(1)
         >>> p = prepare_path([(0.0, 0.0), (1.0, 0.0)])
         >>> Candidate(2.0, 0.0, z, p, (0.0, 1.0), z).how
@@ -231,224 +245,6 @@ class Candidate:
         how = f"swings {self.amplitude_m:.2f} m out"
         return how + (f" ({self.apex_cut:.0%} of it taken back at the apex)"
                       if self.apex_cut > 0 else " from the lane centre line")
-
-
-def _half_cosine(t: FloatArray) -> FloatArray:
-    """0 at ``t <= 0``, 1 at ``t >= 1``, a half cosine between."""
-    return 0.5 - 0.5 * np.cos(math.pi * np.clip(t, 0.0, 1.0))
-
-
-def ramp_bounds(length_m: float, feature_m: tuple[float, float], ramp_m: float
-                ) -> tuple[float, float, float, float]:
-    """Where the ramps in and out begin and end along a centre line of ``length_m``.
-
-    Returns ``(a, b, c, e)``: up from ``a`` to ``b``, down from ``c`` to ``e``.
-
-    Examples
-    --------
-    Room for whole ramps; a lead-in too short for one (the ramp ends inside the feature):
-
-    >>> ramp_bounds(60.0, (25.0, 35.0), 8.0)
-    (17.0, 25.0, 35.0, 43.0)
-    >>> ramp_bounds(60.0, (2.0, 12.0), 8.0)
-    (0.0, 4.0, 12.0, 20.0)
-
-    A feature that fills the line: the ramps meet in its middle.
-
-    >>> ramp_bounds(10.0, (0.0, 10.0), 8.0)
-    (0.0, 4.0, 6.0, 10.0)
-    """
-    cs, ce = max(0.0, feature_m[0]), min(length_m, feature_m[1])
-    mid = 0.5 * (cs + ce)
-    a = max(0.0, cs - ramp_m)
-    b = cs if cs - a >= 0.5 * ramp_m else min(a + 0.5 * ramp_m, mid)
-    e = min(length_m, ce + ramp_m)
-    c = ce if e - ce >= 0.5 * ramp_m else max(e - 0.5 * ramp_m, mid)
-    return a, b, c, e
-
-
-def offset_profile(station_m: FloatArray, feature_m: tuple[float, float], amplitude_m: float,
-                   ramp_m: float, apex_cut: float = 0.0) -> FloatArray:
-    """The offset ``d(s) >= 0`` of a swung path (toward the outside; the caller signs it).
-
-    Examples
-    --------
-    Zero before the ramp and after it, the amplitude over the feature:
-
-    >>> s = np.arange(0.0, 61.0, 1.0)
-    >>> d = offset_profile(s, (25.0, 35.0), 2.0, 8.0)
-    >>> [round(float(d[k]), 9) for k in (10, 21, 30, 50)]
-    [0.0, 1.0, 2.0, 0.0]
-
-    A cut of one half brings the middle of the feature back to half the amplitude:
-
-    >>> float(offset_profile(s, (25.0, 35.0), 2.0, 8.0, apex_cut=0.5)[30])
-    1.0
-
-    A zero amplitude is the centre line itself:
-
-    >>> bool(np.all(offset_profile(s, (25.0, 35.0), 0.0, 8.0) == 0.0))
-    True
-    """
-    s = np.asarray(station_m, dtype=float)
-    a, b, c, e = ramp_bounds(float(s[-1]), feature_m, ramp_m)
-    up = _half_cosine((s - a) / (b - a)) if b > a else (s >= a).astype(float)
-    down = 1.0 - (_half_cosine((s - c) / (e - c)) if e > c else (s > c).astype(float))
-    d = amplitude_m * np.minimum(up, down)
-    lo, hi = 0.5 * (a + b), 0.5 * (c + e)  # the cut spans the feature and half the ramps
-    if apex_cut > 0 and hi > lo:
-        inside = (s > lo) & (s < hi)
-        d[inside] *= 1.0 - apex_cut * np.sin(math.pi * (s[inside] - lo) / (hi - lo)) ** 2
-    return np.asarray(d, dtype=np.float64)
-
-
-def shaped_profile(station_m: FloatArray, feature_m: tuple[float, float], start_m: float,
-                   end_m: float, ramp_in_m: float, ramp_out_m: float, apex_cut: float = 0.0
-                   ) -> FloatArray:
-    """The offset of a *fitted* swung path (toward the outside; see the module docstring).
-
-    Up to ``start_m`` over the ramp in, a half cosine across the feature to ``end_m``,
-    down over the ramp out; times ``1 - apex_cut sin^2`` between the ramps' middles.
-
-    Examples
-    --------
-    Equal ends are :func:`offset_profile`:
-
-    >>> s = np.arange(0.0, 61.0, 1.0)
-    >>> bool(np.allclose(shaped_profile(s, (25.0, 35.0), 2.0, 2.0, 8.0, 8.0, 0.3),
-    ...                  offset_profile(s, (25.0, 35.0), 2.0, 8.0, 0.3)))
-    True
-
-    Wide before the turn, narrow after it:
-
-    >>> d = shaped_profile(s, (25.0, 35.0), 3.0, 0.5, 12.0, 6.0)
-    >>> [round(float(d[k]), 6) for k in (10, 25, 30, 35, 41)]
-    [0.0, 3.0, 1.75, 0.5, 0.0]
-    """
-    s = np.asarray(station_m, dtype=float)
-    length = float(s[-1])
-    a, b, _, _ = ramp_bounds(length, feature_m, ramp_in_m)
-    _, _, c, e = ramp_bounds(length, feature_m, ramp_out_m)
-    up = _half_cosine((s - a) / (b - a)) if b > a else (s >= a).astype(float)
-    down = 1.0 - (_half_cosine((s - c) / (e - c)) if e > c else (s > c).astype(float))
-    across = start_m + (end_m - start_m) * (_half_cosine((s - b) / (c - b)) if c > b
-                                            else (s > b).astype(float))
-    d = np.where(s < b, start_m * up, np.where(s > c, end_m * down, across))
-    lo, hi = 0.5 * (a + b), 0.5 * (c + e)
-    if apex_cut > 0 and hi > lo:
-        inside = (s > lo) & (s < hi)
-        d[inside] *= 1.0 - apex_cut * np.sin(math.pi * (s[inside] - lo) / (hi - lo)) ** 2
-    return np.asarray(d, dtype=np.float64)
-
-
-def corner_cut(path: Path, feature_m: tuple[float, float], lead_m: float,
-               name: str | None = None) -> tuple[Path, FloatArray, FloatArray, tuple[float, float]]:
-    """The path that cuts a turn's corner: the centre line up to ``lead_m`` before the
-    feature, a cubic Hermite curve tangent to it there and ``lead_m`` after the feature,
-    the centre line again from there.
-
-    The Hermite's end tangents are ``c 2 tan(theta / 4) / sin(theta / 2)`` long (``c`` the
-    chord, ``theta`` the turn between the two ends): the length that makes it a circular
-    arc, to within 0.03 % of the radius, when the two ends are alike.
-
-    Returns the path, the signed lateral offset of each centre-line point to it (left
-    positive) and its station there, and ``(start, end)``: where it leaves and rejoins the
-    centre line, along the new path.
-
-    Examples
-    --------
-    A right angle drawn with a 4 m radius; cut from 6 m before it to 6 m after it, the
-    corner becomes an arc of radius 10 m: its apex 6 (sqrt 2 - 1) = 2.49 m inside:
-
-    >>> a = np.radians(np.linspace(90, 0, 46))
-    >>> arc = np.c_[4 * np.cos(a), 25 + 4 * np.sin(a)]
-    >>> p = prepare_path(np.vstack([[(-25.0, 29.0)], arc, [(4.0, 0.0)]]), 0.1)
-    >>> q, d, st, (s0, s1) = corner_cut(p, (25.0, 25.0 + 2 * math.pi), 6.0)
-    >>> round(float(-np.min(d)), 2), round(1 / max_curvature_1_m(q)), round(s0, 1)
-    (2.49, 10, 19.0)
-
-    No lead (or a feature of no length at the line's ends) leaves the line as it is:
-
-    >>> corner_cut(p, (25.0, 25.0 + 2 * math.pi), 0.0)[0] is p
-    True
-    """
-    s = path.station_m
-    s0 = max(0.0, feature_m[0] - lead_m)
-    s1 = min(path.length_m, feature_m[1] + lead_m)
-    i0 = int(np.searchsorted(s, s0, side="right")) - 1
-    i1 = int(np.searchsorted(s, s1, side="left"))
-    if lead_m <= 0 or i1 - i0 < 2 or i1 >= len(s):
-        return path, np.zeros(len(s)), s.copy(), (float(s0), float(s1))
-    p0, p1 = path.xy[i0], path.xy[i1]
-    h0, h1 = float(path.heading_rad[i0]), float(path.heading_rad[i1])
-    theta = abs(math.remainder(h1 - h0, 2 * math.pi))
-    chord = float(np.hypot(*(p1 - p0)))
-    scale = chord * (2 * math.tan(theta / 4) / math.sin(theta / 2) if theta > 1e-6 else 1.0)
-    t0 = scale * np.array([math.cos(h0), math.sin(h0)])
-    t1 = scale * np.array([math.cos(h1), math.sin(h1)])
-    u = np.linspace(0.0, 1.0, max(8, int(math.ceil(2.0 * chord / path.spacing_m))))[:, None]
-    curve = ((2 * u**3 - 3 * u**2 + 1) * p0 + (u**3 - 2 * u**2 + u) * t0
-             + (-2 * u**3 + 3 * u**2) * p1 + (u**3 - u**2) * t1)
-    xy = np.vstack([path.xy[:i0], curve, path.xy[i1 + 1:]])
-    pts: NDArray[np.float64] = xy
-    if path.z is not None:
-        z_mid = np.interp(np.linspace(s[i0], s[i1], len(curve)), s, path.z)
-        pts = np.column_stack([xy, np.concatenate([path.z[:i0], z_mid, path.z[i1 + 1:]])])
-    new = prepare_path(pts, path.spacing_m, name=name or path.name)
-    line = shapely.LineString(new.xy)
-    station = np.asarray(shapely.line_locate_point(line, shapely.points(path.xy)), dtype=float)
-    near = shapely.get_coordinates(shapely.line_interpolate_point(line, station))
-    h = path.heading_rad
-    d = (near[:, 0] - path.xy[:, 0]) * -np.sin(h) + (near[:, 1] - path.xy[:, 1]) * np.cos(h)
-    d[:i0 + 1] = 0.0
-    d[i1:] = 0.0
-    return new, d, station, (float(station[i0]), float(station[i1]))
-
-
-def offset_path(path: Path, offset_m: FloatArray, name: str | None = None) -> Path:
-    """The path moved sideways by ``offset_m`` at each of its points (left positive).
-
-    Examples
-    --------
-    A straight line moved by 1.5 m is the parallel line 1.5 m to its left:
-
-    >>> p = prepare_path([(0.0, 0.0), (10.0, 0.0)], spacing_m=0.5)
-    >>> q = offset_path(p, np.full(len(p.xy), 1.5))
-    >>> bool(np.allclose(q.xy[:, 1], 1.5)), q.length_m
-    (True, 10.0)
-
-    A zero offset is the path itself:
-
-    >>> bool(np.allclose(offset_path(p, np.zeros(len(p.xy))).xy, p.xy))
-    True
-    """
-    d = np.asarray(offset_m, dtype=float)
-    if d.shape != (len(path.xy),):
-        raise InputError(f"{path.name}: one offset per point is needed, got {d.shape}")
-    if not d.any():
-        return path if name is None else dataclasses.replace(path, name=name)
-    xy = _moved(path, d)
-    pts = xy if path.z is None else np.column_stack([xy, path.z])
-    return prepare_path(pts, path.spacing_m, name=name or path.name)
-
-
-def _moved(path: Path, d: FloatArray) -> FloatArray:
-    """The path's points moved by ``d`` along their left normals."""
-    h = path.heading_rad
-    return np.asarray(path.xy + d[:, None] * np.stack([-np.sin(h), np.cos(h)], axis=1),
-                      dtype=np.float64)
-
-
-def max_curvature_1_m(path: Path) -> float:
-    """Largest absolute curvature of a path (1/m), as the follower sees it.
-
-    Examples
-    --------
-    >>> a = np.radians(np.arange(0, 91, 2))
-    >>> round(max_curvature_1_m(prepare_path(np.c_[8 * np.cos(a), 8 * np.sin(a)])), 3)
-    0.125
-    """
-    return float(np.max(np.abs(path.curvature_1_m))) if len(path.xy) else 0.0
 
 
 def outside_sign(turn_angle_deg: float) -> float:
@@ -473,6 +269,7 @@ def outside_room_m(path: Path, feature_m: tuple[float, float], side: float,
     --------
     A lane along y = 0 paved from y = -1.5 to y = 5.1; a 2 m wide car may move left 4.1 m:
 
+    >>> from analysis.polyline import prepare_path
     >>> p = prepare_path([(0.0, 0.0), (40.0, 0.0)])
     >>> paved = shapely.box(-5.0, -1.5, 45.0, 5.1)
     >>> round(outside_room_m(p, (15.0, 25.0), 1.0, paved, 1.0), 6)
@@ -495,6 +292,7 @@ def outside_rooms_m(path: Path, feature_m: tuple[float, float], side: float,
     --------
     A lane along y = 0 paved to y = 5.1 up to x = 22 and to y = 1.5 beyond:
 
+    >>> from analysis.polyline import prepare_path
     >>> p = prepare_path([(0.0, 0.0), (40.0, 0.0)])
     >>> paved = shapely.union(shapely.box(-5.0, -1.5, 22.0, 5.1), shapely.box(19, -1.5, 45, 1.5))
     >>> [round(r, 6) for r in outside_rooms_m(p, (15.0, 25.0), 1.0, paved, 1.0)]
@@ -539,6 +337,7 @@ def candidates(path: Path, feature_m: tuple[float, float], turn_angle_deg: float
     A right-hand quarter circle of radius 4 m between two 20 m straights: 12 candidates,
     all offset to the left (the outside), each with the lane's ends:
 
+    >>> from analysis.polyline import prepare_path
     >>> a = np.radians(np.linspace(90, 0, 31))
     >>> arc = np.c_[4 * np.cos(a), 20 + 4 * np.sin(a)]
     >>> p = prepare_path(np.vstack([[(-20.0, 24.0)], arc, [(4.0, 0.0)]]), smooth=True)
@@ -604,27 +403,63 @@ def candidates(path: Path, feature_m: tuple[float, float], turn_angle_deg: float
             continue
         label = f"swung {a0:g} m, cut {cut:g}" if shape == "held" else f"swung {a0:g} to {a1:g} m"
         p = offset_path(lane, d, name=f"{path.name} ({label})")
-        seg = np.hypot(*np.diff(_moved(lane, d), axis=0).T)
+        seg = np.hypot(*np.diff(moved(lane, d), axis=0).T)
         smap = np.concatenate([[0.0], np.cumsum(seg)])
         ls = lane.station_m
         window = (float(np.interp(min(a, feature_m[0]) - s[keep][0], ls, smap)),
                   float(np.interp(max(e, feature_m[1]) - s[keep][0], ls, smap)))
         out.append(Candidate(float(a0), float(cut), d, p, window, smap, shape, float(a1)))
     if search.shaped and inside_room_m > search.min_amplitude_m:
-        for k in range(1, search.steps + 1):
-            lead = search.inside_step_m * 2.0 ** (k - 1)
-            lane, keep = _kept(path, feature_m[0] - lead, feature_m[1] + lead, reach_m)
-            base = float(s[keep][0])
-            feat = (feature_m[0] - base, feature_m[1] - base)
-            p, d, smap, window = corner_cut(lane, feat, lead,
-                                            name=f"{path.name} (corner cut {lead:g} m)")
-            ls = lane.station_m
-            inner = (ls >= feat[0]) & (ls <= feat[1])
-            depth = float(np.max(-side * d[inner])) if inner.any() else 0.0
-            if p is lane or depth <= search.min_amplitude_m or depth > inside_room_m:
-                continue
-            out.append(Candidate(0.0, 0.0, d, p, window, smap, "inside", 0.0,
-                                 round(depth, 3)))
+        k_in = path.curvature_1_m[(s >= feature_m[0]) & (s <= feature_m[1])]
+        corner = (abs(turn_angle_deg) <= 150.0 and not len(k_in) == 0
+                  and float(np.max(side * k_in)) < 1.0 / REVERSE_RADIUS_M)
+        out += (_corner_cuts if corner else _apex_bumps)(path, feature_m, side, search,
+                                                         inside_room_m, reach_m)
+    return out
+
+
+def _corner_cuts(path: Path, feature_m: tuple[float, float], side: float, search: SwingSearch,
+                 inside_room_m: float, reach_m: float | None) -> list[Candidate]:
+    """The *inside* candidates of one corner: :func:`corner_cut` 2, 4, 8, 16 m out."""
+    out = []
+    s = path.station_m
+    for k in range(1, search.steps + 1):
+        lead = search.inside_step_m * 2.0 ** (k - 1)
+        lane, keep = _kept(path, feature_m[0] - lead, feature_m[1] + lead, reach_m)
+        base = float(s[keep][0])
+        feat = (feature_m[0] - base, feature_m[1] - base)
+        p, d, smap, window = corner_cut(lane, feat, lead,
+                                        name=f"{path.name} (corner cut {lead:g} m)")
+        ls = lane.station_m
+        inner = (ls >= feat[0]) & (ls <= feat[1])
+        depth = float(np.max(-side * d[inner])) if inner.any() else 0.0
+        if p is lane or depth <= search.min_amplitude_m or depth > inside_room_m:
+            continue
+        out.append(Candidate(0.0, 0.0, d, p, window, smap, "inside", 0.0, round(depth, 3)))
+    return out
+
+
+def _apex_bumps(path: Path, feature_m: tuple[float, float], side: float, search: SwingSearch,
+                inside_room_m: float, reach_m: float | None) -> list[Candidate]:
+    """The *inside* candidates of a feature that is not one corner: :func:`apex_bump`."""
+    out = []
+    s = path.station_m
+    top = min(inside_room_m, search.max_amplitude_m)
+    for k in range(1, search.steps + 1):
+        depth = round(top * k / search.steps, 3)
+        ramp = search.ramp_m(depth)
+        a, _, _, e = ramp_bounds(path.length_m, feature_m, ramp)
+        lane, keep = _kept(path, a, e, reach_m)
+        d = -side * apex_bump(s, feature_m, depth, ramp)[keep]
+        if np.min(1.0 - lane.curvature_1_m * d) <= MIN_FOLD:
+            continue
+        p = offset_path(lane, d, name=f"{path.name} (cut {depth:g} m inside)")
+        seg = np.hypot(*np.diff(moved(lane, d), axis=0).T)
+        smap = np.concatenate([[0.0], np.cumsum(seg)])
+        ls = lane.station_m
+        window = (float(np.interp(min(a, feature_m[0]) - s[keep][0], ls, smap)),
+                  float(np.interp(max(e, feature_m[1]) - s[keep][0], ls, smap)))
+        out.append(Candidate(0.0, 0.0, d, p, window, smap, "inside", 0.0, depth))
     return out
 
 
