@@ -91,9 +91,9 @@ from analysis.polyline import Path
 from vehicles.errors import InputError
 
 __all__ = ["BETTER_BY_M", "Candidate", "ENCROACHED", "FITTED_MIN_M", "MIN_FOLD",
-           "REVERSE_RADIUS_M", "SwingSearch", "TIERS", "candidates", "decisive_margin",
-           "encroaches_on", "outside_room_m", "outside_rooms_m", "outside_sign", "rank",
-           "swing_reason", "tier"]
+           "REVERSE_RADIUS_M", "ROOM_SAMPLES", "SwingSearch", "TIERS", "candidates",
+           "decisive_margin", "encroaches_on", "outside_room_m", "outside_rooms_m",
+           "outside_sign", "rank", "swing_reason", "tier"]
 
 FloatArray = NDArray[np.float64]
 
@@ -280,6 +280,11 @@ def outside_room_m(path: Path, feature_m: tuple[float, float], side: float,
     return max(0.0, min(outside_rooms_m(path, feature_m, side, paved, half_width_m, reach_m)))
 
 
+#: Where the room at a feature's end is also looked for: ``(metres beyond the end, the
+#: share of the swing a ramp of 8 m still has there)`` (a half cosine, 1 at the end).
+ROOM_SAMPLES = ((0.0, 1.0), (2.0, 0.854), (4.0, 0.5), (6.0, 0.146))
+
+
 def outside_rooms_m(path: Path, feature_m: tuple[float, float], side: float,
                     paved: BaseGeometry, half_width_m: float, reach_m: float = 12.0
                     ) -> tuple[float, float, float]:
@@ -288,18 +293,34 @@ def outside_rooms_m(path: Path, feature_m: tuple[float, float], side: float,
     (``-half_width_m`` where a point is off the pavement; ``reach_m - half_width_m`` where
     the pavement goes on further).
 
+    The room at the start (end) is the smallest over :data:`ROOM_SAMPLES`: at the
+    feature's start and 2, 4 and 6 m before it, each divided by the share of the swing a
+    ramp still has there, so that a lane that narrows just before (after) the feature, as
+    where a junction's pavement gives way to a one-lane street, bounds the swing too.
+
     Examples
     --------
-    A lane along y = 0 paved to y = 5.1 up to x = 22 and to y = 1.5 beyond:
+    A lane along y = 0 paved to y = 5.1 up to x = 22 and to y = 1.5 beyond; a swing may
+    be 4.1 m wide at the feature's start (x = 15) but only 0.5 m at its end (x = 25):
 
     >>> from analysis.polyline import prepare_path
     >>> p = prepare_path([(0.0, 0.0), (40.0, 0.0)])
     >>> paved = shapely.union(shapely.box(-5.0, -1.5, 22.0, 5.1), shapely.box(19, -1.5, 45, 1.5))
     >>> [round(r, 6) for r in outside_rooms_m(p, (15.0, 25.0), 1.0, paved, 1.0)]
     [4.1, 4.1, 0.5]
+
+    The same lane with its feature ending at x = 20: the lane narrows 2 m after it, where
+    the ramp down still has 85 % of the swing, so the room at the end is 0.5 / 0.854:
+
+    >>> [round(r, 3) for r in outside_rooms_m(p, (10.0, 20.0), 1.0, paved, 1.0)]
+    [4.1, 4.1, 0.585]
     """
-    s = np.array([feature_m[0], 0.5 * (feature_m[0] + feature_m[1]), feature_m[1]])
-    s = np.clip(s, 0.0, path.length_m)
+    cs, ce = feature_m
+    ahead = [(cs - x, w) for x, w in ROOM_SAMPLES]
+    after = [(ce + x, w) for x, w in ROOM_SAMPLES]
+    where = [*ahead, (0.5 * (cs + ce), 1.0), *after]
+    s = np.clip(np.array([x for x, _ in where]), 0.0, path.length_m)
+    share = np.array([w for _, w in where])
     xy = path.point_at(s)
     h = path.heading_at(s)
     n = side * np.stack([-np.sin(h), np.cos(h)], axis=1)
@@ -315,7 +336,9 @@ def outside_rooms_m(path: Path, feature_m: tuple[float, float], side: float,
             continue
         hit = shapely.intersection(ray, edge)
         room.append(float(shapely.distance(p0, hit)) if not hit.is_empty else reach_m)
-    return room[0] - half_width_m, room[1] - half_width_m, room[2] - half_width_m
+    free = (np.array(room) - half_width_m) / share
+    k = len(ahead)
+    return float(free[:k].min()), float(free[k]), float(free[k + 1:].min())
 
 
 def candidates(path: Path, feature_m: tuple[float, float], turn_angle_deg: float,
