@@ -48,10 +48,9 @@ Two more shapes fit the room where it differs along the turn (:attr:`SwingSearch
   somewhere, tighter than :data:`REVERSE_RADIUS_M`, as a roundabout's entry and exit do, or
   turns back by more than 150°) is cut instead by ``d = -B sin^2(pi (s - a) / (e - a))``
   over the whole manoeuvre (:func:`apex_bump`, ``B = f room_inside``, ramps as for ``B``).
-  A feature that turns less than :data:`SHIFT_MAX_DEG`, and less than three times that
-  either way in all (a connection into a lane beside its own, through a widening), gets
-  the same Hermite curves instead, whichever way they go: a driver eases a lane shift
-  that SUMO draws as two kinks.
+  A feature that turns less than :data:`SHIFT_MAX_DEG` (a connection into a lane beside
+  its own, through a widening) gets the same Hermite curves instead, whichever way they
+  go: a driver eases a lane shift that SUMO draws as two kinks.
 
 The offset path is the smoothed centre line's points moved along its normals,
 ``p + d n``; the profile and the centre line are smooth, so the offset is too (its
@@ -111,8 +110,7 @@ REVERSE_RADIUS_M = 50.0
 """A feature that turns against its turn tighter than this somewhere is not one corner."""
 
 SHIFT_MAX_DEG = 30.0
-"""A feature that turns less than this, and by less than three times this either way in
-all (a lane shift, not a roundabout's way straight on), is eased by corner cuts (degrees)."""
+"""A feature that turns less than this (a lane shift) is eased by corner cuts (degrees)."""
 
 MIN_FOLD = 0.2
 """A candidate is left out where ``1 - kappa d`` (the offset's stretch) falls to this."""
@@ -440,14 +438,12 @@ def candidates(path: Path, feature_m: tuple[float, float], turn_angle_deg: float
         window = (float(np.interp(min(a, feature_m[0]) - s[keep][0], ls, smap)),
                   float(np.interp(max(e, feature_m[1]) - s[keep][0], ls, smap)))
         out.append(Candidate(float(a0), float(cut), d, p, window, smap, shape, float(a1)))
-    inner = (s >= feature_m[0]) & (s <= feature_m[1])
-    turning = math.degrees(float(np.sum(np.abs(path.curvature_1_m[inner]))) * path.spacing_m)
-    if search.shaped and abs(turn_angle_deg) < SHIFT_MAX_DEG and turning < 3 * SHIFT_MAX_DEG:
+    if search.shaped and abs(turn_angle_deg) < SHIFT_MAX_DEG:
         # a lane shift (a connection into a lane beside its own, through a widening): the
         # same smooth curve from t before to t after it, as a driver eases the shift
         out += _corner_cuts(path, feature_m, 0.0, search, search.max_amplitude_m, reach_m)
     elif search.shaped and inside_room_m > search.min_amplitude_m:
-        k_in = path.curvature_1_m[inner]
+        k_in = path.curvature_1_m[(s >= feature_m[0]) & (s <= feature_m[1])]
         corner = (abs(turn_angle_deg) <= 150.0 and not len(k_in) == 0
                   and float(np.max(side * k_in)) < 1.0 / REVERSE_RADIUS_M)
         out += (_corner_cuts if corner else _apex_bumps)(path, feature_m, side, search,
