@@ -48,9 +48,6 @@ Two more shapes fit the room where it differs along the turn (:attr:`SwingSearch
   somewhere, tighter than :data:`REVERSE_RADIUS_M`, as a roundabout's entry and exit do, or
   turns back by more than 150°) is cut instead by ``d = -B sin^2(pi (s - a) / (e - a))``
   over the whole manoeuvre (:func:`apex_bump`, ``B = f room_inside``, ramps as for ``B``).
-  A feature that turns less than :data:`SHIFT_MAX_DEG` (a connection into a lane beside
-  its own, through a widening) gets the same Hermite curves instead, whichever way they
-  go: a driver eases a lane shift that SUMO draws as two kinks.
 
 The offset path is the smoothed centre line's points moved along its normals,
 ``p + d n``; the profile and the centre line are smooth, so the offset is too (its
@@ -94,8 +91,8 @@ from analysis.polyline import Path
 from vehicles.errors import InputError
 
 __all__ = ["BETTER_BY_M", "Candidate", "ENCROACHED", "FITTED_MIN_M", "MIN_FOLD",
-           "REVERSE_RADIUS_M", "ROOM_SAMPLES", "SHIFT_MAX_DEG", "SwingSearch", "TIERS",
-           "candidates", "decisive_margin", "encroaches_on", "outside_room_m", "outside_rooms_m",
+           "REVERSE_RADIUS_M", "ROOM_SAMPLES", "SwingSearch", "TIERS", "candidates",
+           "decisive_margin", "encroaches_on", "outside_room_m", "outside_rooms_m",
            "outside_sign", "rank", "swing_reason", "tier"]
 
 FloatArray = NDArray[np.float64]
@@ -108,9 +105,6 @@ FITTED_MIN_M = 0.25
 
 REVERSE_RADIUS_M = 50.0
 """A feature that turns against its turn tighter than this somewhere is not one corner."""
-
-SHIFT_MAX_DEG = 30.0
-"""A feature that turns less than this (a lane shift) is eased by corner cuts (degrees)."""
 
 MIN_FOLD = 0.2
 """A candidate is left out where ``1 - kappa d`` (the offset's stretch) falls to this."""
@@ -438,11 +432,7 @@ def candidates(path: Path, feature_m: tuple[float, float], turn_angle_deg: float
         window = (float(np.interp(min(a, feature_m[0]) - s[keep][0], ls, smap)),
                   float(np.interp(max(e, feature_m[1]) - s[keep][0], ls, smap)))
         out.append(Candidate(float(a0), float(cut), d, p, window, smap, shape, float(a1)))
-    if search.shaped and abs(turn_angle_deg) < SHIFT_MAX_DEG:
-        # a lane shift (a connection into a lane beside its own, through a widening): the
-        # same smooth curve from t before to t after it, as a driver eases the shift
-        out += _corner_cuts(path, feature_m, 0.0, search, search.max_amplitude_m, reach_m)
-    elif search.shaped and inside_room_m > search.min_amplitude_m:
+    if search.shaped and inside_room_m > search.min_amplitude_m:
         k_in = path.curvature_1_m[(s >= feature_m[0]) & (s <= feature_m[1])]
         corner = (abs(turn_angle_deg) <= 150.0 and not len(k_in) == 0
                   and float(np.max(side * k_in)) < 1.0 / REVERSE_RADIUS_M)
@@ -453,8 +443,7 @@ def candidates(path: Path, feature_m: tuple[float, float], turn_angle_deg: float
 
 def _corner_cuts(path: Path, feature_m: tuple[float, float], side: float, search: SwingSearch,
                  inside_room_m: float, reach_m: float | None) -> list[Candidate]:
-    """The *inside* candidates of one corner: :func:`corner_cut` 2, 4, 8, 16 m out (with
-    ``side`` 0, a lane shift's: the largest offset either way is its depth)."""
+    """The *inside* candidates of one corner: :func:`corner_cut` 2, 4, 8, 16 m out."""
     out = []
     s = path.station_m
     for k in range(1, search.steps + 1):
@@ -466,8 +455,7 @@ def _corner_cuts(path: Path, feature_m: tuple[float, float], side: float, search
                                         name=f"{path.name} (corner cut {lead:g} m)")
         ls = lane.station_m
         inner = (ls >= feat[0]) & (ls <= feat[1])
-        away = -side * d[inner] if side else np.abs(d[inner])
-        depth = float(np.max(away)) if inner.any() else 0.0
+        depth = float(np.max(-side * d[inner])) if inner.any() else 0.0
         if p is lane or depth <= search.min_amplitude_m or depth > inside_room_m:
             continue
         out.append(Candidate(0.0, 0.0, d, p, window, smap, "inside", 0.0, round(depth, 3)))

@@ -10,7 +10,6 @@ import pytest
 from analysis.clearance import Clearance
 from analysis.path_search import SwingSearch, candidates, encroaches_on, rank
 from analysis.path_shapes import max_curvature_1_m
-from analysis.polyline import prepare_path
 from analysis.tracking import simulate_batch
 from tests.analysis.helpers import corner_path
 from vehicles.table import bundled_table, load_tables
@@ -113,20 +112,3 @@ def test_fitted_swing_follows_the_room_at_each_end():
     # equal rooms: no fitted shape (it would be a held one)
     same = candidates(path, feature, -90.0, room_m=2.0, rooms_m=(2.0, 6.0, 2.1))
     assert not [c for c in same if c.shape == "fitted"]
-
-
-def test_a_lane_shift_is_eased_by_smooth_curves_either_way():
-    # a connection into the lane beside its own through a short widening: a 3.2 m shift
-    # drawn over 6 m (two kinks); the candidates spread it over 2, 4, 8, 16 m more on each
-    # side, so the tightest curvature falls (the same ends and headings)
-    pts = [(-30.0, 0.0), (0.0, 0.0), (6.0, 3.2), (36.0, 3.2)]
-    path = prepare_path(pts, 0.1, smooth=True)
-    feature = (29.0, 37.5)
-    cs = candidates(path, feature, -2.0, room_m=0.3, rooms_m=(0.3, 0.3, 0.3))
-    shifts = [c for c in cs if c.shape == "inside"]
-    assert len(shifts) >= 3
-    k = [max_curvature_1_m(c.path) for c in shifts]
-    assert k[0] < max_curvature_1_m(path) and k == sorted(k, reverse=True)
-    for c in shifts:
-        assert np.allclose(c.path.xy[-1], path.xy[-1], atol=1e-6)
-        assert abs(c.path.heading_rad[-1]) < 1e-3
