@@ -3,20 +3,21 @@
 :func:`networks.sumo.driver.drive` first drives every run on its lane's centre line. For each
 run that is not ``clear`` there, :func:`swing_pass` drives the search's candidates
 (:func:`analysis.path_search.candidates`: the centre line offset toward the outside of the
-turn by a fixed family of profiles), all runs' candidates together in batches of
+turn by a fixed family of profiles, held or fitted to the room at each end of the turn, and
+corner cuts toward the inside), all runs' candidates together in batches of
 :attr:`~networks.sumo.runs.DriveOptions.batch_size` (:func:`analysis.tracking.simulate_batch`),
 judges each one the follower could drive against the curve's areas over the whole
 manoeuvre (:func:`analysis.clearance.evaluate` with the candidate's window), and keeps the
 best (:func:`analysis.path_search.rank`; the lane's result wins ties). A candidate the
 follower cannot drive within the lock and steering rate in that window is not judged (it
-ranks as ``cannot-turn``). The driven candidates are judged in two stages: every amplitude
-with the middle apex cut, then the other cuts of the best amplitude so far and of its two
-neighbours; the first ``clear`` one ends that run's search (no later one can be in a better
-tier). A run that cannot turn and has no candidate within its room that the follower can
-drive gets the family again with the room unbounded (up to
-:attr:`~analysis.path_search.SwingSearch.max_amplitude_m`): then it ``fails`` by how far the
-best of those leaves the pavement, and is ``cannot-turn`` only when none of them can be
-driven either.
+ranks as ``cannot-turn``). The driven candidates are judged in two stages: every held
+amplitude with the middle apex cut and every fitted and inside shape, then the other cuts
+of the best held amplitude so far and of its two neighbours; the first ``clear`` one ends
+that run's search (no later one can be in a better tier). A run that cannot turn and has
+no candidate within its room that the follower can drive gets the held family again with
+the room unbounded (up to :attr:`~analysis.path_search.SwingSearch.max_amplitude_m`):
+then it ``fails`` by how far the best of those leaves the pavement, and is ``cannot-turn``
+only when none of them can be driven either.
 
 The lane-following result stays beside the chosen one (:attr:`DrivenRun.lane_result`), and
 :attr:`DrivenRun.path` says which was taken (``lane`` or ``swung``). SUMO replays the lane
