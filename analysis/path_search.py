@@ -30,6 +30,25 @@ first), so the search is deterministic. A candidate whose offset
 would fold the line over itself (``1 - kappa d <= 0.2`` anywhere, ``kappa`` the centre
 line's curvature) is left out.
 
+Two more shapes fit the room where it differs along the turn (:attr:`SwingSearch.shaped`):
+
+- *fitted*: the ends follow the room at the feature's start and at its end separately,
+  ``d = f room_start`` up to the feature, a half cosine across it to ``d = f room_end``
+  (``f = k / steps``, the middle apex cut), then down: a driver swings wide on a wide
+  approach and turns in to a narrow exit lane (or the reverse); only where the two rooms
+  differ by more than :data:`FITTED_MIN_M`;
+- *inside*: the path cuts the corner toward the *inside* of the turn: the centre line up to
+  ``t`` before the feature, then one smooth curve (a cubic Hermite, tangent to the centre
+  line at both ends, as round as a circular arc where the two tangents are alike) to ``t``
+  after it, then the centre line again: a wider radius tangent to the same approach and
+  exit lanes, the path a car takes across the middle of a junction whose drawn lane turns
+  tighter than it can (:func:`corner_cut`; ``t = inside_step_m 2^(k - 1)``: 2, 4, 8,
+  16 m). Kept where its deepest cut, inside the feature, is within the room toward the
+  inside at the feature's middle. A feature that is not one corner (it turns the other way
+  somewhere, tighter than :data:`REVERSE_RADIUS_M`, as a roundabout's entry and exit do, or
+  turns back by more than 150°) is cut instead by ``d = -B sin^2(pi (s - a) / (e - a))``
+  over the whole manoeuvre (:func:`apex_bump`, ``B = f room_inside``, ramps as for ``B``).
+
 The offset path is the smoothed centre line's points moved along its normals,
 ``p + d n``; the profile and the centre line are smooth, so the offset is too (its
 curvature is ``kappa / (1 - kappa d)`` plus the profile's own, :func:`max_curvature_1_m`).
@@ -49,7 +68,6 @@ better by a whole tier, or by more than :data:`BETTER_BY_M` in the same tier.
 
 from __future__ import annotations
 
-import dataclasses
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass
@@ -60,18 +78,33 @@ from numpy.typing import NDArray
 from shapely.geometry.base import BaseGeometry
 
 from analysis.clearance import Clearance
-from analysis.polyline import Path, prepare_path
+from analysis.path_shapes import (
+    apex_bump,
+    corner_cut,
+    moved,
+    offset_path,
+    offset_profile,
+    ramp_bounds,
+    shaped_profile,
+)
+from analysis.polyline import Path
 from vehicles.errors import InputError
 
-__all__ = ["BETTER_BY_M", "Candidate", "ENCROACHED", "MIN_FOLD", "SwingSearch", "TIERS",
-           "candidates", "decisive_margin", "encroaches_on", "max_curvature_1_m", "offset_path",
-           "offset_profile", "outside_room_m", "outside_sign", "ramp_bounds", "rank",
-           "swing_reason", "tier"]
+__all__ = ["BETTER_BY_M", "Candidate", "ENCROACHED", "FITTED_MIN_M", "MIN_FOLD",
+           "REVERSE_RADIUS_M", "ROOM_SAMPLES", "SwingSearch", "TIERS", "candidates",
+           "decisive_margin", "encroaches_on", "outside_room_m", "outside_rooms_m",
+           "outside_sign", "rank", "swing_reason", "tier"]
 
 FloatArray = NDArray[np.float64]
 
 BETTER_BY_M = 0.05
 """A swung path in the lane's own tier must beat its margin by more than this (m)."""
+
+FITTED_MIN_M = 0.25
+"""The fitted shape is tried only where the rooms at the feature's ends differ by more (m)."""
+
+REVERSE_RADIUS_M = 50.0
+"""A feature that turns against its turn tighter than this somewhere is not one corner."""
 
 MIN_FOLD = 0.2
 """A candidate is left out where ``1 - kappa d`` (the offset's stretch) falls to this."""
@@ -98,11 +131,16 @@ class SwingSearch:
         Fractions of the amplitude taken back at the feature's middle (0: held).
     ramp_per_m, min_ramp_m
         The ramps in and out are ``max(min_ramp_m, ramp_per_m * A)`` long.
+    shaped
+        Also the *fitted* and *inside* shapes (``steps`` of each, where they apply).
+    inside_step_m
+        The inside shapes leave the centre line ``inside_step_m 2^(k - 1)`` before the
+        feature and rejoin it as far after (``k = 1 .. steps``).
 
     Examples
     --------
     >>> SwingSearch().count, SwingSearch().amplitudes_m(3.0)
-    (12, (0.75, 1.5, 2.25, 3.0))
+    (20, (0.75, 1.5, 2.25, 3.0))
     >>> SwingSearch().amplitudes_m(0.05), SwingSearch().amplitudes_m(float("inf"))[-1]
     ((0.15,), 6.0)
     >>> SwingSearch(steps=0)
@@ -117,6 +155,8 @@ class SwingSearch:
     apex_cuts: tuple[float, ...] = (0.0, 0.3, 0.6)
     ramp_per_m: float = 4.0
     min_ramp_m: float = 6.0
+    shaped: bool = True
+    inside_step_m: float = 2.0
 
     def __post_init__(self) -> None:
         if not (isinstance(self.steps, int) and self.steps >= 1):
@@ -126,13 +166,13 @@ class SwingSearch:
             raise InputError("swing search: amplitudes must be 0 < min <= max, finite")
         if not self.apex_cuts or not all(0 <= c < 1 for c in self.apex_cuts):
             raise InputError(f"swing search: apex cuts must be in [0, 1), got {self.apex_cuts}")
-        if not (self.ramp_per_m > 0 and self.min_ramp_m > 0):
-            raise InputError("swing search: ramp lengths must be > 0 m")
+        if not (self.ramp_per_m > 0 and self.min_ramp_m > 0 and self.inside_step_m > 0):
+            raise InputError("swing search: ramp and inside step lengths must be > 0 m")
 
     @property
     def count(self) -> int:
         """Candidates per run (at most; folding ones are left out)."""
-        return self.steps * len(self.apex_cuts)
+        return self.steps * (len(self.apex_cuts) + (2 if self.shaped else 0))
 
     def amplitudes_m(self, room_m: float) -> tuple[float, ...]:
         """The amplitudes searched for an outward room of ``room_m``, smallest first."""
@@ -164,6 +204,10 @@ class Candidate:
         ``(start, end)``: the ramps and the feature along ``path`` (m), the part judged.
     station_map
         The offset path's station at each of those points.
+    shape
+        ``held`` (the amplitude over the whole feature), ``fitted`` (``amplitude_m`` at the
+        feature's start, ``exit_m`` at its end) or ``inside`` (cutting the corner, at most
+        ``inside_m`` inside the centre line within the feature; ``amplitude_m`` 0).
     """
 
     amplitude_m: float
@@ -172,121 +216,35 @@ class Candidate:
     path: Path
     window_m: tuple[float, float]
     station_map: FloatArray
+    shape: str = "held"
+    exit_m: float = 0.0
+    inside_m: float = 0.0
 
+    @property
+    def how(self) -> str:
+        """The path in words (the start of :func:`swing_reason`).
 
-def _half_cosine(t: FloatArray) -> FloatArray:
-    """0 at ``t <= 0``, 1 at ``t >= 1``, a half cosine between."""
-    return 0.5 - 0.5 * np.cos(math.pi * np.clip(t, 0.0, 1.0))
-
-
-def ramp_bounds(length_m: float, feature_m: tuple[float, float], ramp_m: float
-                ) -> tuple[float, float, float, float]:
-    """Where the ramps in and out begin and end along a centre line of ``length_m``.
-
-    Returns ``(a, b, c, e)``: up from ``a`` to ``b``, down from ``c`` to ``e``.
-
-    Examples
-    --------
-    Room for whole ramps; a lead-in too short for one (the ramp ends inside the feature):
-
-    >>> ramp_bounds(60.0, (25.0, 35.0), 8.0)
-    (17.0, 25.0, 35.0, 43.0)
-    >>> ramp_bounds(60.0, (2.0, 12.0), 8.0)
-    (0.0, 4.0, 12.0, 20.0)
-
-    A feature that fills the line: the ramps meet in its middle.
-
-    >>> ramp_bounds(10.0, (0.0, 10.0), 8.0)
-    (0.0, 4.0, 6.0, 10.0)
-    """
-    cs, ce = max(0.0, feature_m[0]), min(length_m, feature_m[1])
-    mid = 0.5 * (cs + ce)
-    a = max(0.0, cs - ramp_m)
-    b = cs if cs - a >= 0.5 * ramp_m else min(a + 0.5 * ramp_m, mid)
-    e = min(length_m, ce + ramp_m)
-    c = ce if e - ce >= 0.5 * ramp_m else max(e - 0.5 * ramp_m, mid)
-    return a, b, c, e
-
-
-def offset_profile(station_m: FloatArray, feature_m: tuple[float, float], amplitude_m: float,
-                   ramp_m: float, apex_cut: float = 0.0) -> FloatArray:
-    """The offset ``d(s) >= 0`` of a swung path (toward the outside; the caller signs it).
-
-    Examples
-    --------
-    Zero before the ramp and after it, the amplitude over the feature:
-
-    >>> s = np.arange(0.0, 61.0, 1.0)
-    >>> d = offset_profile(s, (25.0, 35.0), 2.0, 8.0)
-    >>> [round(float(d[k]), 9) for k in (10, 21, 30, 50)]
-    [0.0, 1.0, 2.0, 0.0]
-
-    A cut of one half brings the middle of the feature back to half the amplitude:
-
-    >>> float(offset_profile(s, (25.0, 35.0), 2.0, 8.0, apex_cut=0.5)[30])
-    1.0
-
-    A zero amplitude is the centre line itself:
-
-    >>> bool(np.all(offset_profile(s, (25.0, 35.0), 0.0, 8.0) == 0.0))
-    True
-    """
-    s = np.asarray(station_m, dtype=float)
-    a, b, c, e = ramp_bounds(float(s[-1]), feature_m, ramp_m)
-    up = _half_cosine((s - a) / (b - a)) if b > a else (s >= a).astype(float)
-    down = 1.0 - (_half_cosine((s - c) / (e - c)) if e > c else (s > c).astype(float))
-    d = amplitude_m * np.minimum(up, down)
-    lo, hi = 0.5 * (a + b), 0.5 * (c + e)  # the cut spans the feature and half the ramps
-    if apex_cut > 0 and hi > lo:
-        inside = (s > lo) & (s < hi)
-        d[inside] *= 1.0 - apex_cut * np.sin(math.pi * (s[inside] - lo) / (hi - lo)) ** 2
-    return np.asarray(d, dtype=np.float64)
-
-
-def offset_path(path: Path, offset_m: FloatArray, name: str | None = None) -> Path:
-    """The path moved sideways by ``offset_m`` at each of its points (left positive).
-
-    Examples
-    --------
-    A straight line moved by 1.5 m is the parallel line 1.5 m to its left:
-
-    >>> p = prepare_path([(0.0, 0.0), (10.0, 0.0)], spacing_m=0.5)
-    >>> q = offset_path(p, np.full(len(p.xy), 1.5))
-    >>> bool(np.allclose(q.xy[:, 1], 1.5)), q.length_m
-    (True, 10.0)
-
-    A zero offset is the path itself:
-
-    >>> bool(np.allclose(offset_path(p, np.zeros(len(p.xy))).xy, p.xy))
-    True
-    """
-    d = np.asarray(offset_m, dtype=float)
-    if d.shape != (len(path.xy),):
-        raise InputError(f"{path.name}: one offset per point is needed, got {d.shape}")
-    if not d.any():
-        return path if name is None else dataclasses.replace(path, name=name)
-    xy = _moved(path, d)
-    pts = xy if path.z is None else np.column_stack([xy, path.z])
-    return prepare_path(pts, path.spacing_m, name=name or path.name)
-
-
-def _moved(path: Path, d: FloatArray) -> FloatArray:
-    """The path's points moved by ``d`` along their left normals."""
-    h = path.heading_rad
-    return np.asarray(path.xy + d[:, None] * np.stack([-np.sin(h), np.cos(h)], axis=1),
-                      dtype=np.float64)
-
-
-def max_curvature_1_m(path: Path) -> float:
-    """Largest absolute curvature of a path (1/m), as the follower sees it.
-
-    Examples
-    --------
-    >>> a = np.radians(np.arange(0, 91, 2))
-    >>> round(max_curvature_1_m(prepare_path(np.c_[8 * np.cos(a), 8 * np.sin(a)])), 3)
-    0.125
-    """
-    return float(np.max(np.abs(path.curvature_1_m))) if len(path.xy) else 0.0
+        Examples
+        --------
+        >>> from analysis.polyline import prepare_path
+        >>> z = np.zeros(1)
+        >>> p = prepare_path([(0.0, 0.0), (1.0, 0.0)])
+        >>> Candidate(2.0, 0.0, z, p, (0.0, 1.0), z).how
+        'swings 2.00 m out from the lane centre line'
+        >>> Candidate(3.5, 0.3, z, p, (0.0, 1.0), z, "fitted", 0.5).how
+        'swings 3.50 m out before the turn and 0.50 m after it'
+        >>> Candidate(0.0, 0.0, z, p, (0.0, 1.0), z, "inside", inside_m=1.25).how
+        'cuts the corner 1.25 m inside the lane centre line, on a wider radius'
+        """
+        if self.shape == "inside":
+            return (f"cuts the corner {self.inside_m:.2f} m inside the lane centre line, "
+                    "on a wider radius")
+        if self.shape == "fitted":
+            return (f"swings {self.amplitude_m:.2f} m out before the turn and "
+                    f"{self.exit_m:.2f} m after it")
+        how = f"swings {self.amplitude_m:.2f} m out"
+        return how + (f" ({self.apex_cut:.0%} of it taken back at the apex)"
+                      if self.apex_cut > 0 else " from the lane centre line")
 
 
 def outside_sign(turn_angle_deg: float) -> float:
@@ -304,14 +262,14 @@ def outside_room_m(path: Path, feature_m: tuple[float, float], side: float,
                    paved: BaseGeometry, half_width_m: float, reach_m: float = 12.0) -> float:
     """How far the centre line may move outward and keep the body's side on the pavement.
 
-    The smallest, over the feature's start, middle and end, of the distance along the
-    outward normal from the centre line to the paved area's edge, less ``half_width_m``
-    (0 where a point is off the pavement; ``reach_m`` where the pavement goes on further).
+    The smallest of :func:`outside_rooms_m` (the feature's start, middle and end), and
+    at least 0.
 
     Examples
     --------
     A lane along y = 0 paved from y = -1.5 to y = 5.1; a 2 m wide car may move left 4.1 m:
 
+    >>> from analysis.polyline import prepare_path
     >>> p = prepare_path([(0.0, 0.0), (40.0, 0.0)])
     >>> paved = shapely.box(-5.0, -1.5, 45.0, 5.1)
     >>> round(outside_room_m(p, (15.0, 25.0), 1.0, paved, 1.0), 6)
@@ -319,8 +277,50 @@ def outside_room_m(path: Path, feature_m: tuple[float, float], side: float,
     >>> round(outside_room_m(p, (15.0, 25.0), -1.0, paved, 1.0), 6)
     0.5
     """
-    s = np.array([feature_m[0], 0.5 * (feature_m[0] + feature_m[1]), feature_m[1]])
-    s = np.clip(s, 0.0, path.length_m)
+    return max(0.0, min(outside_rooms_m(path, feature_m, side, paved, half_width_m, reach_m)))
+
+
+#: Where the room at a feature's end is also looked for: ``(metres beyond the end, the
+#: share of the swing a ramp of 8 m still has there)`` (a half cosine, 1 at the end).
+ROOM_SAMPLES = ((0.0, 1.0), (2.0, 0.854), (4.0, 0.5), (6.0, 0.146))
+
+
+def outside_rooms_m(path: Path, feature_m: tuple[float, float], side: float,
+                    paved: BaseGeometry, half_width_m: float, reach_m: float = 12.0
+                    ) -> tuple[float, float, float]:
+    """How far the centre line may move toward ``side`` at the feature's start, middle and
+    end: the distance along the normal to the paved area's edge less ``half_width_m``
+    (``-half_width_m`` where a point is off the pavement; ``reach_m - half_width_m`` where
+    the pavement goes on further).
+
+    The room at the start (end) is the smallest over :data:`ROOM_SAMPLES`: at the
+    feature's start and 2, 4 and 6 m before it, each divided by the share of the swing a
+    ramp still has there, so that a lane that narrows just before (after) the feature, as
+    where a junction's pavement gives way to a one-lane street, bounds the swing too.
+
+    Examples
+    --------
+    A lane along y = 0 paved to y = 5.1 up to x = 22 and to y = 1.5 beyond; a swing may
+    be 4.1 m wide at the feature's start (x = 15) but only 0.5 m at its end (x = 25):
+
+    >>> from analysis.polyline import prepare_path
+    >>> p = prepare_path([(0.0, 0.0), (40.0, 0.0)])
+    >>> paved = shapely.union(shapely.box(-5.0, -1.5, 22.0, 5.1), shapely.box(19, -1.5, 45, 1.5))
+    >>> [round(r, 6) for r in outside_rooms_m(p, (15.0, 25.0), 1.0, paved, 1.0)]
+    [4.1, 4.1, 0.5]
+
+    The same lane with its feature ending at x = 20: the lane narrows 2 m after it, where
+    the ramp down still has 85 % of the swing, so the room at the end is 0.5 / 0.854:
+
+    >>> [round(r, 3) for r in outside_rooms_m(p, (10.0, 20.0), 1.0, paved, 1.0)]
+    [4.1, 4.1, 0.585]
+    """
+    cs, ce = feature_m
+    ahead = [(cs - x, w) for x, w in ROOM_SAMPLES]
+    after = [(ce + x, w) for x, w in ROOM_SAMPLES]
+    where = [*ahead, (0.5 * (cs + ce), 1.0), *after]
+    s = np.clip(np.array([x for x, _ in where]), 0.0, path.length_m)
+    share = np.array([w for _, w in where])
     xy = path.point_at(s)
     h = path.heading_at(s)
     n = side * np.stack([-np.sin(h), np.cos(h)], axis=1)
@@ -336,23 +336,31 @@ def outside_room_m(path: Path, feature_m: tuple[float, float], side: float,
             continue
         hit = shapely.intersection(ray, edge)
         room.append(float(shapely.distance(p0, hit)) if not hit.is_empty else reach_m)
-    return max(0.0, min(room) - half_width_m)
+    free = (np.array(room) - half_width_m) / share
+    k = len(ahead)
+    return float(free[:k].min()), float(free[k]), float(free[k + 1:].min())
 
 
 def candidates(path: Path, feature_m: tuple[float, float], turn_angle_deg: float,
                search: SwingSearch | None = None, room_m: float = math.inf,
-               reach_m: float | None = None) -> list[Candidate]:
+               reach_m: float | None = None,
+               rooms_m: tuple[float, float, float] | None = None,
+               inside_room_m: float = 0.0) -> list[Candidate]:
     """The swung paths of one run, in the search's order (see the module docstring).
 
     With ``reach_m`` each candidate keeps only the centre line from ``reach_m`` before its
     ramp in to ``reach_m`` after its ramp out (a vehicle's length and a little more: all a
     judged sample's body can cover), so that it is driven no further than it is judged.
+    With ``rooms_m`` (the outward room at the feature's start, middle and end,
+    :func:`outside_rooms_m`) and :attr:`SwingSearch.shaped`, the *fitted* shapes follow;
+    with ``inside_room_m`` (the room toward the inside at the middle) the *inside* ones.
 
     Examples
     --------
     A right-hand quarter circle of radius 4 m between two 20 m straights: 12 candidates,
     all offset to the left (the outside), each with the lane's ends:
 
+    >>> from analysis.polyline import prepare_path
     >>> a = np.radians(np.linspace(90, 0, 31))
     >>> arc = np.c_[4 * np.cos(a), 20 + 4 * np.sin(a)]
     >>> p = prepare_path(np.vstack([[(-20.0, 24.0)], arc, [(4.0, 0.0)]]), smooth=True)
@@ -360,6 +368,18 @@ def candidates(path: Path, feature_m: tuple[float, float], turn_angle_deg: float
     >>> len(cs), bool(all(c.offset_m.max() > 0 for c in cs))
     (12, True)
     >>> bool(np.allclose(cs[0].path.xy[[0, -1]], p.xy[[0, -1]], atol=1e-6))
+    True
+
+    A wide approach and a narrow exit add the fitted shapes; room inside, the inside ones
+    (offsets to the right, the inside of this turn):
+
+    >>> cs = candidates(p, (20.0, 26.3), -90.0, room_m=0.5, rooms_m=(3.0, 5.0, 0.5),
+    ...                 inside_room_m=2.0)
+    >>> [(c.amplitude_m, c.exit_m) for c in cs if c.shape == "fitted"][:2]
+    [(0.75, 0.125), (1.5, 0.25)]
+    >>> [(c.shape, c.inside_m) for c in cs[-2:]]
+    [('inside', 0.679), ('inside', 1.521)]
+    >>> bool(cs[-1].offset_m.min() < -1.5 and cs[-1].offset_m.max() <= 0)
     True
 
     A feature that does not turn has no outside and no candidates:
@@ -378,29 +398,104 @@ def candidates(path: Path, feature_m: tuple[float, float], turn_angle_deg: float
     side = outside_sign(turn_angle_deg)
     if side == 0.0:
         return []
-    s = path.station_m
-    out = []
+    # (shape, start amplitude, exit amplitude, cut, ramp in, ramp out)
+    plans: list[tuple[str, float, float, float, float, float]] = []
     for amp in search.amplitudes_m(room_m):
         ramp = search.ramp_m(amp)
-        a, _, _, e = ramp_bounds(path.length_m, feature_m, ramp)
-        lane, keep = path, slice(None)
-        if reach_m is not None:
-            i0 = int(np.searchsorted(s, a - reach_m, side="right")) - 1
-            i1 = int(np.searchsorted(s, e + reach_m, side="left")) + 1
-            keep = slice(max(i0, 0), min(i1, len(s)))
-            lane = _sub_path(path, keep)
-        for cut in search.apex_cuts:
-            d = side * offset_profile(s, feature_m, amp, ramp, cut)[keep]
-            if np.min(1.0 - lane.curvature_1_m * d) <= MIN_FOLD:
-                continue
-            p = offset_path(lane, d, name=f"{path.name} (swung {amp:g} m, cut {cut:g})")
-            seg = np.hypot(*np.diff(_moved(lane, d), axis=0).T)
-            smap = np.concatenate([[0.0], np.cumsum(seg)])
-            ls = lane.station_m
-            window = (float(np.interp(min(a, feature_m[0]) - s[keep][0], ls, smap)),
-                      float(np.interp(max(e, feature_m[1]) - s[keep][0], ls, smap)))
-            out.append(Candidate(float(amp), float(cut), d, p, window, smap))
+        plans += [("held", amp, amp, cut, ramp, ramp) for cut in search.apex_cuts]
+    if search.shaped and rooms_m is not None:
+        top = search.max_amplitude_m
+        r0, r1 = min(max(rooms_m[0], 0.0), top), min(max(rooms_m[2], 0.0), top)
+        if abs(r0 - r1) > FITTED_MIN_M:
+            cut = search.apex_cuts[len(search.apex_cuts) // 2]
+            for k in range(1, search.steps + 1):
+                a0 = round(max(search.min_amplitude_m, r0 * k / search.steps), 3)
+                a1 = round(r1 * k / search.steps, 3)
+                plans.append(("fitted", a0, a1, cut, search.ramp_m(a0), search.ramp_m(a1)))
+    s = path.station_m
+    out = []
+    for shape, a0, a1, cut, ramp_in, ramp_out in plans:
+        a, _, _, _ = ramp_bounds(path.length_m, feature_m, ramp_in)
+        _, _, _, e = ramp_bounds(path.length_m, feature_m, ramp_out)
+        lane, keep = _kept(path, a, e, reach_m)
+        if shape == "held":
+            d = side * offset_profile(s, feature_m, a0, ramp_in, cut)[keep]
+        else:
+            d = side * shaped_profile(s, feature_m, a0, a1, ramp_in, ramp_out, cut)[keep]
+        if np.min(1.0 - lane.curvature_1_m * d) <= MIN_FOLD:
+            continue
+        label = f"swung {a0:g} m, cut {cut:g}" if shape == "held" else f"swung {a0:g} to {a1:g} m"
+        p = offset_path(lane, d, name=f"{path.name} ({label})")
+        seg = np.hypot(*np.diff(moved(lane, d), axis=0).T)
+        smap = np.concatenate([[0.0], np.cumsum(seg)])
+        ls = lane.station_m
+        window = (float(np.interp(min(a, feature_m[0]) - s[keep][0], ls, smap)),
+                  float(np.interp(max(e, feature_m[1]) - s[keep][0], ls, smap)))
+        out.append(Candidate(float(a0), float(cut), d, p, window, smap, shape, float(a1)))
+    if search.shaped and inside_room_m > search.min_amplitude_m:
+        k_in = path.curvature_1_m[(s >= feature_m[0]) & (s <= feature_m[1])]
+        corner = (abs(turn_angle_deg) <= 150.0 and not len(k_in) == 0
+                  and float(np.max(side * k_in)) < 1.0 / REVERSE_RADIUS_M)
+        out += (_corner_cuts if corner else _apex_bumps)(path, feature_m, side, search,
+                                                         inside_room_m, reach_m)
     return out
+
+
+def _corner_cuts(path: Path, feature_m: tuple[float, float], side: float, search: SwingSearch,
+                 inside_room_m: float, reach_m: float | None) -> list[Candidate]:
+    """The *inside* candidates of one corner: :func:`corner_cut` 2, 4, 8, 16 m out."""
+    out = []
+    s = path.station_m
+    for k in range(1, search.steps + 1):
+        lead = search.inside_step_m * 2.0 ** (k - 1)
+        lane, keep = _kept(path, feature_m[0] - lead, feature_m[1] + lead, reach_m)
+        base = float(s[keep][0])
+        feat = (feature_m[0] - base, feature_m[1] - base)
+        p, d, smap, window = corner_cut(lane, feat, lead,
+                                        name=f"{path.name} (corner cut {lead:g} m)")
+        ls = lane.station_m
+        inner = (ls >= feat[0]) & (ls <= feat[1])
+        depth = float(np.max(-side * d[inner])) if inner.any() else 0.0
+        if p is lane or depth <= search.min_amplitude_m or depth > inside_room_m:
+            continue
+        out.append(Candidate(0.0, 0.0, d, p, window, smap, "inside", 0.0, round(depth, 3)))
+    return out
+
+
+def _apex_bumps(path: Path, feature_m: tuple[float, float], side: float, search: SwingSearch,
+                inside_room_m: float, reach_m: float | None) -> list[Candidate]:
+    """The *inside* candidates of a feature that is not one corner: :func:`apex_bump`."""
+    out = []
+    s = path.station_m
+    top = min(inside_room_m, search.max_amplitude_m)
+    for k in range(1, search.steps + 1):
+        depth = round(top * k / search.steps, 3)
+        ramp = search.ramp_m(depth)
+        a, _, _, e = ramp_bounds(path.length_m, feature_m, ramp)
+        lane, keep = _kept(path, a, e, reach_m)
+        d = -side * apex_bump(s, feature_m, depth, ramp)[keep]
+        if np.min(1.0 - lane.curvature_1_m * d) <= MIN_FOLD:
+            continue
+        p = offset_path(lane, d, name=f"{path.name} (cut {depth:g} m inside)")
+        seg = np.hypot(*np.diff(moved(lane, d), axis=0).T)
+        smap = np.concatenate([[0.0], np.cumsum(seg)])
+        ls = lane.station_m
+        window = (float(np.interp(min(a, feature_m[0]) - s[keep][0], ls, smap)),
+                  float(np.interp(max(e, feature_m[1]) - s[keep][0], ls, smap)))
+        out.append(Candidate(0.0, 0.0, d, p, window, smap, "inside", 0.0, depth))
+    return out
+
+
+def _kept(path: Path, a: float, e: float, reach_m: float | None) -> tuple[Path, slice]:
+    """The part of ``path`` from ``reach_m`` before ``a`` to ``reach_m`` after ``e`` (all
+    of it without ``reach_m``), and the slice of its points."""
+    if reach_m is None:
+        return path, slice(None)
+    s = path.station_m
+    i0 = int(np.searchsorted(s, a - reach_m, side="right")) - 1
+    i1 = int(np.searchsorted(s, e + reach_m, side="left")) + 1
+    keep = slice(max(i0, 0), min(i1, len(s)))
+    return _sub_path(path, keep), keep
 
 
 def _sub_path(path: Path, keep: slice) -> Path:
@@ -500,8 +595,9 @@ def encroaches_on(clearance: Clearance | None) -> str:
     return "same-direction lanes" if road is not None and road >= 0 else "opposing lanes"
 
 
-def swing_reason(amplitude_m: float, apex_cut: float, clearance: Clearance) -> str:
-    """The verdict of a swung path in words.
+def swing_reason(amplitude_m: float, apex_cut: float, clearance: Clearance,
+                 how: str | None = None) -> str:
+    """The verdict of a swung path in words (``how``: the path's own, :attr:`Candidate.how`).
 
     Examples
     --------
@@ -516,9 +612,10 @@ def swing_reason(amplitude_m: float, apex_cut: float, clearance: Clearance) -> s
     >>> print(swing_reason(5.5, 0.0, Clearance("fails", -3.0, -0.62, -2.0, 0.0, "")))
     swings 5.50 m out from the lane centre line and still leaves the paved area by 0.62 m
     """
-    how = f"swings {amplitude_m:.2f} m out"
-    how += (f" ({apex_cut:.0%} of it taken back at the apex)" if apex_cut > 0 else
-            " from the lane centre line")
+    if how is None:
+        how = f"swings {amplitude_m:.2f} m out"
+        how += (f" ({apex_cut:.0%} of it taken back at the apex)" if apex_cut > 0 else
+                " from the lane centre line")
     c = clearance
     if c.verdict == "clear":
         return f"{how} and stays {c.margin_m:.2f} m inside its own lanes"

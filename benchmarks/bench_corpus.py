@@ -82,7 +82,7 @@ def _one(net: Path, vehicles: list[str], workers: int | None, extra: list[str]) 
             bad = total = 0
             for (vv, kind, verdict), c in counts.items():
                 if vv != v:
-                    return
+                    continue
                 by[verdict] += c
                 if kind != "uturn" and verdict != "not-permitted":
                     total += c

@@ -215,9 +215,10 @@ def curve_levels(index: AreaIndex, curve: AreaCurve, force: bool = False) -> tup
     The members of the curve's areas (:class:`~networks.area_groups.BatchPlan`) are cut to
     the parts within :data:`~analysis.levels.LEVEL_BAND_M` of each slot's middle height
     (:func:`analysis.levels.level_slots` of the centre line); the paved area covers the
-    roadway and the own lanes, as in plan. None (an empty tuple) when the run and every
-    member lie within :data:`~analysis.levels.LEVEL_STEP_M` of each other: the plan areas
-    are then the storey's (``force`` builds the levels all the same, for checks).
+    roadway and the own lanes and is closed over its cracks, as in plan. None (an empty
+    tuple) when the run and every member lie within :data:`~analysis.levels.LEVEL_STEP_M`
+    of each other: the plan areas are then the storey's (``force`` builds the levels all
+    the same, for checks).
 
     Examples
     --------
@@ -231,7 +232,7 @@ def curve_levels(index: AreaIndex, curve: AreaCurve, force: bool = False) -> tup
     >>> bool(levels[5].areas.own_lanes.area < 0.5 * ramp.own_lanes.area)
     True
     """
-    from networks.areas import SEAL_M, _fill_small_holes, designed_line
+    from networks.areas import SEAL_M, _fill_small_holes, close_cracks, designed_line
 
     net = index.net
     plan = BatchPlan(index)
@@ -267,7 +268,9 @@ def curve_levels(index: AreaIndex, curve: AreaCurve, force: bool = False) -> tup
                                      quad_segs=1, join_style="mitre") for p in polys]
         paved_k = shapely.union_all([_band_union(net, paved_lanes, lo, hi, SEAL_M),
                                      *junction_k, own])
-        paved_k = _fill_small_holes(shapely.make_valid(paved_k))
+        # closed over the cracks as the plan's paved area is (networks.areas.close_cracks)
+        paved_k = close_cracks(np.array([shapely.make_valid(paved_k)], dtype=object))[0]
+        paved_k = _fill_small_holes(paved_k)
         areas = Areas(own, paved_k, None if road_k.is_empty else _fill_small_holes(road_k))
         out.append(Level(z_lo, z_hi, areas))
     return tuple(out)

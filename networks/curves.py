@@ -12,8 +12,9 @@ Kinds and how they are found:
     Connections at the nodes of a ``<roundabout>`` are left to the ``roundabout`` curves.
 ``uturn``
     The same for netconvert's automatic turnarounds (connection ``dir="t"``, at dead
-    ends and on divided roads): a kind of their own, left out unless asked for
-    (:data:`DEFAULT_KINDS`).
+    ends and on divided roads) and for every other connection that turns back alongside
+    its approach (:func:`networks.geometry.turns_back`: onto the other carriageway, round
+    a turning loop): a kind of their own, left out unless asked for (:data:`DEFAULT_KINDS`).
     A network built without internal lanes (``--no-internal-links``) has no junction
     geometry to check: no turns are extracted and a warning says so.
 ``roundabout``
@@ -49,6 +50,7 @@ from networks.geometry import (
     curvature_profile,
     grades_pct,
     radius_from_curvature,
+    turns_back,
     unwrap,
 )
 from networks.paths import (
@@ -314,7 +316,7 @@ def find_turns(
     net: Network, opts: CurveOptions, uturns: bool = False
 ) -> Iterable[Item]:
     """Yield one ``turn`` per connection through a junction's internal lanes; with
-    ``uturns``, one ``uturn`` per automatic turnaround (``dir="t"``) instead."""
+    ``uturns``, one ``uturn`` per U-turn (``dir="t"`` or :func:`turns_back`) instead."""
     kind = "uturn" if uturns else "turn"
     if not net.has_internal_lanes:
         if uturns:
@@ -335,10 +337,15 @@ def find_turns(
         if not via or from_edge.startswith(":"):
             continue
         junction = junction_of_internal(via)  # (the first of its via lanes)
-        if junction in ring_nodes or (conn.direction == "t") != uturns:
+        if junction in ring_nodes:
+            continue
+        from_lane, to_lane = f"{from_edge}_{from_index}", f"{to_edge}_{to_index}"
+        back = conn.direction == "t" or (
+            from_lane in lanes and to_lane in lanes
+            and turns_back(lanes[from_lane].shape, lanes[to_lane].shape))
+        if back != uturns:
             continue
         junction = junction_ids.setdefault(junction, junction)
-        from_lane, to_lane = f"{from_edge}_{from_index}", f"{to_edge}_{to_index}"
         named.append((f"{kind}:{junction}:{from_lane}->{to_lane}", junction, from_lane,
                       to_lane, conn))
     named.sort(key=itemgetter(0))

@@ -19,7 +19,8 @@ from networks.profiles import profiles
 
 __all__ = ["MIN_CHORD_M", "arc_length", "chord_headings", "clean_polyline", "curvature_profile",
            "cut_polyline", "grades_pct", "heading_at", "heading_rad_to_navigational",
-           "navigational_to_heading_rad", "radius_from_curvature", "signed_turn_deg", "unwrap"]
+           "navigational_to_heading_rad", "radius_from_curvature", "signed_turn_deg", "turns_back",
+           "unwrap"]
 
 #: Chords shorter than this (metres) are dropped before computing headings.
 MIN_CHORD_M = 1e-6
@@ -302,6 +303,50 @@ def cut_polyline(
     if len(inner) and s[j - 1] >= b:
         inner = inner[:-1]
     return np.vstack((ends[:1], inner, ends[1:]))
+
+
+def turns_back(approach: np.ndarray, exit_: np.ndarray, min_turn_deg: float = 135.0,
+               reach_m: float = 30.0, within_m: float = 15.0) -> bool:
+    """Whether a movement from a lane drawn ``approach`` into one drawn ``exit_`` is a U-turn:
+    it turns by at least ``min_turn_deg`` between the approach's last chord and the exit's
+    first, and the exit runs back alongside the approach: the points ``reach_m`` back along
+    each (their far ends, if shorter) are within ``within_m``.
+
+    SUMO gives ``dir="t"`` to its automatic turnarounds onto the reverse edge only; a turn
+    onto the other carriageway of a divided road, round a median's nose or a turning loop,
+    is a ``dir="l"`` or even ``"s"`` connection, and no less a U-turn.
+
+    Examples
+    --------
+    Back along a carriageway 7 m away, a U-turn; a sharp 140° left into a road that leaves
+    at 40°, not one; nor a right angle:
+
+    >>> west = np.array([[100.0, 0.0], [0.0, 0.0]])
+    >>> turns_back(west, np.array([[0.0, 7.0], [100.0, 7.0]]))
+    True
+    >>> a = np.radians(-40.0)
+    >>> turns_back(west, np.array([[0.0, 0.0], [100 * np.cos(a), 100 * np.sin(a)]]))
+    False
+    >>> turns_back(west, np.array([[0.0, 0.0], [0.0, 100.0]]))
+    False
+
+    A lane of a single point has no heading: not a U-turn.
+
+    >>> turns_back(np.array([[0.0, 0.0]]), np.array([[0.0, 7.0], [100.0, 7.0]]))
+    False
+    """
+    a = clean_polyline(np.asarray(approach, dtype=float)[:, :2])
+    b = clean_polyline(np.asarray(exit_, dtype=float)[:, :2])
+    if len(a) < 2 or len(b) < 2:
+        return False
+    da, db = a[-1] - a[-2], b[1] - b[0]
+    turn = math.degrees(math.atan2(da[0] * db[1] - da[1] * db[0], float(da @ db)))
+    if abs(turn) < min_turn_deg:
+        return False
+    sa, sb = arc_length(a), arc_length(b)
+    p = _points_at(a, sa, np.array([max(0.0, float(sa[-1]) - reach_m)]))[0]
+    q = _points_at(b, sb, np.array([min(float(sb[-1]), reach_m)]))[0]
+    return bool(np.hypot(*(p - q)) <= within_m)
 
 
 def _points_at(pts: np.ndarray, s: np.ndarray, at: np.ndarray) -> np.ndarray:

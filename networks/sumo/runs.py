@@ -171,7 +171,8 @@ class DrivenRun:
     path
         ``lane`` or ``swung``: the path ``result`` judges. SUMO replays the lane's.
     swing_m
-        The swung path's outward offset over the feature (m), 0 on the lane.
+        The swung path's largest outward offset over the feature (m), 0 on the lane;
+        negative for a path that cuts inside at the apex (its depth).
     """
 
     vehicle: Vehicle

@@ -3,20 +3,21 @@
 :func:`networks.sumo.driver.drive` first drives every run on its lane's centre line. For each
 run that is not ``clear`` there, :func:`swing_pass` drives the search's candidates
 (:func:`analysis.path_search.candidates`: the centre line offset toward the outside of the
-turn by a fixed family of profiles), all runs' candidates together in batches of
+turn by a fixed family of profiles, held or fitted to the room at each end of the turn, and
+corner cuts toward the inside), all runs' candidates together in batches of
 :attr:`~networks.sumo.runs.DriveOptions.batch_size` (:func:`analysis.tracking.simulate_batch`),
 judges each one the follower could drive against the curve's areas over the whole
 manoeuvre (:func:`analysis.clearance.evaluate` with the candidate's window), and keeps the
 best (:func:`analysis.path_search.rank`; the lane's result wins ties). A candidate the
 follower cannot drive within the lock and steering rate in that window is not judged (it
-ranks as ``cannot-turn``). The driven candidates are judged in two stages: every amplitude
-with the middle apex cut, then the other cuts of the best amplitude so far and of its two
-neighbours; the first ``clear`` one ends that run's search (no later one can be in a better
-tier). A run that cannot turn and has no candidate within its room that the follower can
-drive gets the family again with the room unbounded (up to
-:attr:`~analysis.path_search.SwingSearch.max_amplitude_m`): then it ``fails`` by how far the
-best of those leaves the pavement, and is ``cannot-turn`` only when none of them can be
-driven either.
+ranks as ``cannot-turn``). The driven candidates are judged in two stages: every held
+amplitude with the middle apex cut and every fitted and inside shape, then the other cuts
+of the best held amplitude so far and of its two neighbours; the first ``clear`` one ends
+that run's search (no later one can be in a better tier). A run that cannot turn and has
+no candidate within its room that the follower can drive gets the held family again with
+the room unbounded (up to :attr:`~analysis.path_search.SwingSearch.max_amplitude_m`):
+then it ``fails`` by how far the best of those leaves the pavement, and is ``cannot-turn``
+only when none of them can be driven either.
 
 The lane-following result stays beside the chosen one (:attr:`DrivenRun.lane_result`), and
 :attr:`DrivenRun.path` says which was taken (``lane`` or ``swung``). SUMO replays the lane
@@ -38,7 +39,7 @@ from analysis.path_search import (
     Candidate,
     SwingSearch,
     candidates,
-    outside_room_m,
+    outside_rooms_m,
     outside_sign,
     rank,
     swing_reason,
@@ -81,12 +82,17 @@ def swing_pass(
         try:
             path = paths[c.curve_id]
             side = outside_sign(c.turn_angle_deg)
-            if room_m is None:
-                room_m = outside_room_m(path, feature, side, areas[c.curve_id].paved,
-                                        0.5 * d.vehicle.width_m) if side else 0.0
+            rooms: tuple[float, float, float] | None = None
+            inside = 0.0
+            if room_m is None:  # the room the pavement gives, outward and (middle) inward
+                if side:
+                    paved, half = areas[c.curve_id].paved, 0.5 * d.vehicle.width_m
+                    rooms = outside_rooms_m(path, feature, side, paved, half)
+                    inside = outside_rooms_m(path, feature, -side, paved, half)[1]
+                room_m = max(0.0, min(rooms)) if rooms else 0.0
             reach = d.vehicle.overall_length_m + 2.0  # all a judged sample's body covers
             return [(d, cand) for cand in candidates(path, feature, c.turn_angle_deg,
-                                                     search, room_m, reach)]
+                                                     search, room_m, reach, rooms, inside)]
         except (InputError, shapely.errors.ShapelyError) as exc:  # no candidates
             log.info("%s: no swung paths: %s", c.curve_id, exc)
             return []
@@ -134,7 +140,7 @@ def swing_pass(
             continue
         cand, res = tried[best - 1]
         assert res is not None  # rank never picks a candidate that was not judged
-        why = swing_reason(cand.amplitude_m, cand.apex_cut, res.clearance)
+        why = swing_reason(cand.amplitude_m, cand.apex_cut, res.clearance, cand.how)
         why += f" (on the lane centre line: {lane.verdict}"
         if lane.verdict != "cannot-turn":
             why += f", margin {lane.margin_m:.2f} m"
@@ -142,7 +148,8 @@ def swing_pass(
         d.result = dataclasses.replace(res, clearance=dataclasses.replace(res.clearance,
                                                                           reason=why))
         d.path = "swung"
-        d.swing_m = cand.amplitude_m
+        d.swing_m = max(cand.amplitude_m, cand.exit_m) if cand.shape != "inside" else \
+            -cand.inside_m
         taken += 1
     if stats is not None:
         stats.swing_judged += sum(1 for j in judged.values() for _, r in j if r is not None)
@@ -156,12 +163,13 @@ def _judge(d: DrivenRun, driven: list[tuple[Candidate, TrackingRun]], areas: Are
            offset_m: float, search: SwingSearch) -> list[tuple[Candidate, RunResult | None]]:
     """The verdicts of a run's driven candidates, in two stages.
 
-    First every amplitude with the middle apex cut; then the other cuts of the best
-    amplitude and its neighbours. A ``clear`` candidate ends the search.
+    First every amplitude with the middle apex cut and every fitted and inside shape; then
+    the other cuts of the best held amplitude and its neighbours. A ``clear`` candidate
+    ends the search.
     """
     cuts = search.apex_cuts
     first_cut = cuts[len(cuts) // 2]
-    amps = sorted({c.amplitude_m for c, _ in driven})
+    amps = sorted({c.amplitude_m for c, _ in driven if c.shape == "held"})
     out: list[tuple[Candidate, RunResult | None]] = []
 
     def judge(items: list[tuple[Candidate, TrackingRun]]) -> bool:
@@ -177,13 +185,15 @@ def _judge(d: DrivenRun, driven: list[tuple[Candidate, TrackingRun]], areas: Are
                 return True
         return False
 
-    stage1 = [x for x in driven if x[0].apex_cut == first_cut]
+    stage1 = [x for x in driven if x[0].apex_cut == first_cut or x[0].shape != "held"]
     if judge(stage1):
         return out
-    best = rank([None] + [r.clearance if r else None for _, r in out])
+    held = [(c, r) for c, r in out if c.shape == "held"]
+    best = rank([None] + [r.clearance if r else None for _, r in held])
     near = set(amps)
     if best:
-        k = amps.index(out[best - 1][0].amplitude_m)
+        k = amps.index(held[best - 1][0].amplitude_m)
         near = set(amps[max(0, k - 1):k + 2])
-    judge([x for x in driven if x[0].apex_cut != first_cut and x[0].amplitude_m in near])
+    judge([x for x in driven if x[0].shape == "held" and x[0].apex_cut != first_cut
+           and x[0].amplitude_m in near])
     return out

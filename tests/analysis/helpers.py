@@ -6,6 +6,7 @@ import math
 
 import numpy as np
 
+from analysis.polyline import Path, prepare_path
 from vehicles.vehicle import Trailer, Vehicle
 
 
@@ -44,3 +45,13 @@ def semi(max_articulation_deg: float = 90.0) -> Vehicle:
 def steady_rho(path_radius_m: float, wheelbase_m: float) -> float:
     """Rear-axle radius when the front-axle centre runs on a circle of ``path_radius_m``."""
     return math.sqrt(path_radius_m**2 - wheelbase_m**2)
+
+
+def corner_path(radius_m: float, lead_m: float = 25.0, smooth: bool = True
+                ) -> tuple[Path, tuple[float, float]]:
+    """A right-hand quarter circle between two straights of ``lead_m``; and its feature."""
+    a = np.radians(np.linspace(90.0, 0.0, 46))
+    arc = np.c_[radius_m * np.cos(a), lead_m + radius_m * np.sin(a)]
+    pts = np.vstack([[(-lead_m, lead_m + radius_m)], arc, [(radius_m, 0.0)]])
+    path = prepare_path(pts, 0.1, name="corner", smooth=smooth)
+    return path, (lead_m, lead_m + math.pi * radius_m / 2)

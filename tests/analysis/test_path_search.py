@@ -8,75 +8,16 @@ import numpy as np
 import pytest
 
 from analysis.clearance import Clearance
-from analysis.path_search import (
-    SwingSearch,
-    candidates,
-    encroaches_on,
-    max_curvature_1_m,
-    offset_path,
-    offset_profile,
-    rank,
-)
-from analysis.polyline import prepare_path
-from analysis.tracking import simulate, simulate_batch
+from analysis.path_search import SwingSearch, candidates, encroaches_on, rank
+from analysis.path_shapes import max_curvature_1_m
+from analysis.tracking import simulate_batch
+from tests.analysis.helpers import corner_path
 from vehicles.table import bundled_table, load_tables
 
 
 @pytest.fixture(scope="module")
 def car():
     return load_tables([bundled_table("aashto_green_book")], ["P"]).vehicle("P")
-
-
-def corner_path(radius_m: float, lead_m: float = 25.0, smooth: bool = True):
-    """A right-hand quarter circle between two straights of ``lead_m``; and its feature."""
-    a = np.radians(np.linspace(90.0, 0.0, 46))
-    arc = np.c_[radius_m * np.cos(a), lead_m + radius_m * np.sin(a)]
-    pts = np.vstack([[(-lead_m, lead_m + radius_m)], arc, [(radius_m, 0.0)]])
-    path = prepare_path(pts, 0.1, name="corner", smooth=smooth)
-    return path, (lead_m, lead_m + math.pi * radius_m / 2)
-
-
-def test_offset_of_a_straight_line_is_the_parallel_line():
-    p = prepare_path([(0.0, 0.0), (30.0, 40.0)], 0.1)
-    q = offset_path(p, np.full(len(p.xy), -2.0))  # 2 m to the right
-    # the right normal of heading (3, 4)/5 is (4, -3)/5
-    assert np.allclose(q.xy - p.xy, [1.6, -1.2], atol=1e-9)
-    assert q.length_m == pytest.approx(50.0, abs=1e-9)
-    assert np.allclose(q.heading_rad, p.heading_rad[0], atol=1e-9)
-
-
-def test_offset_of_an_arc_is_the_concentric_arc():
-    # outward (left of a right turn, whose centre lies to the right) by 1.5 m: radius 5.5
-    path, feature = corner_path(4.0, smooth=False)
-    centre = np.array([0.0, 25.0])
-    d = np.full(len(path.xy), 1.5)
-    q = offset_path(path, d)
-    on_arc = (q.xy[:, 1] > 25.5) & (q.xy[:, 0] > 0.5)
-    r = np.hypot(*(q.xy[on_arc] - centre).T)
-    assert np.allclose(r, 5.5, atol=0.01)
-
-
-def test_zero_offset_candidate_is_the_lane_path(car):
-    path, feature = corner_path(8.0)
-    d = offset_profile(path.station_m, feature, 0.0, 6.0, 0.3)
-    assert np.all(d == 0.0)
-    q = offset_path(path, d)
-    assert np.allclose(q.xy, path.xy) and np.allclose(q.heading_rad, path.heading_rad)
-    a, b = simulate(car, path), simulate(car, q)
-    assert np.allclose(a.trajectory.x_m, b.trajectory.x_m)
-    assert np.allclose(a.trajectory.phi_rad, b.trajectory.phi_rad)
-
-
-def test_profile_is_zero_outside_its_ramps_and_within_the_amplitude():
-    s = np.arange(0.0, 80.0, 0.1)
-    feature = (30.0, 40.0)
-    for cut in (0.0, 0.3, 0.6):
-        d = offset_profile(s, feature, 2.0, 8.0, cut)
-        assert np.all(d[s <= 22.0] == 0.0) and np.all(d[s >= 48.0] == 0.0)
-        assert np.all((d >= 0.0) & (d <= 2.0 + 1e-12))
-        # symmetric about the feature's middle
-        assert np.allclose(d, np.interp(70.0 - s, s, d), atol=1e-6)
-        assert d[np.argmin(abs(s - 35.0))] == pytest.approx(2.0 * (1.0 - cut), abs=1e-6)
 
 
 def test_candidates_are_bounded_and_go_outside(car):
@@ -124,3 +65,50 @@ def test_rank_prefers_the_better_area_then_the_margin():
     assert rank([_c("cannot-turn", -1.0, -0.3, -0.8), None, None]) == 0
     assert [encroaches_on(c) for c in (lane, opposing, own_road)] == [
         "shoulder", "opposing lanes", "same-direction lanes"]
+
+
+def test_inside_cut_is_the_wider_radius_a_car_takes_across_a_junction(car):
+    # a right-angle turn drawn with a 3 m radius (SUMO's internal lane at an OSM corner):
+    # tighter than P's lock, so the lane path cannot be followed; cutting the corner
+    # across the junction, on the same approach and exit lanes, opens it to a radius P
+    # can take
+    path, feature = corner_path(3.0, smooth=False)
+    limit = math.sin(car.max_steer_rad) / car.wheelbase_m  # 1 / 6.4 m
+    assert max_curvature_1_m(path) > 1.5 * limit
+    cs = candidates(path, feature, -90.0, room_m=0.3, rooms_m=(0.3, 6.0, 0.3),
+                    inside_room_m=4.0)
+    inside = [c for c in cs if c.shape == "inside"]
+    # leaving the line 2, 4, 8 m before the corner: arcs of about 5, 7, 11 m whose apexes
+    # are (R' - 3)(sqrt 2 - 1) inside: 0.8, 1.7, 3.3 m (16 m would cut 6.6 m: beyond the room)
+    depths = [c.inside_m for c in inside]
+    assert depths == pytest.approx([0.83, 1.66, 3.31], abs=0.05)
+    assert all(c.offset_m.max() <= 1e-9 for c in inside)  # right of a right turn
+    radii = [1 / max_curvature_1_m(c.path) for c in inside]
+    assert radii == pytest.approx([5.0, 7.0, 11.0], rel=0.03)
+    lane_run, *runs = simulate_batch([car], [path] + [c.path for c in inside])
+    assert lane_run.cannot_turn
+    # 7 m and 11 m are within the lock (6.4 m); the 5 m arc only within the tolerance
+    assert [max_curvature_1_m(c.path) < limit for c in inside] == [False, True, True]
+    assert all(r.followed for r in runs)
+    # judged over the whole manoeuvre: from where it leaves the line to where it rejoins
+    assert inside[1].window_m[0] == pytest.approx(feature[0] - 4.0, abs=0.05)
+
+
+def test_fitted_swing_follows_the_room_at_each_end():
+    # 3 m of room on the approach (an opposing lane), 0.5 m at the exit (one lane): the
+    # fitted shapes swing f 3 m out before the turn and f 0.5 m after it
+    path, feature = corner_path(4.0)
+    cs = candidates(path, feature, -90.0, room_m=0.5, rooms_m=(3.0, 6.0, 0.5))
+    fitted = [c for c in cs if c.shape == "fitted"]
+    assert [(c.amplitude_m, c.exit_m) for c in fitted] == [
+        (0.75, 0.125), (1.5, 0.25), (2.25, 0.375), (3.0, 0.5)]
+    top = fitted[-1]
+    s = path.station_m
+    at = lambda x: float(np.interp(x, s, top.offset_m))  # noqa: E731
+    # times 1 - 0.3 sin^2 (the middle apex cut) from the ramps' middles
+    assert 0.7 * 3.0 < at(feature[0]) < 3.0 and 0.7 * 0.5 < at(feature[1]) < 0.5
+    assert at(feature[0] - 6.0) == pytest.approx(3.0 * 0.5, abs=0.01)  # the cut starts there
+    assert at(0.0) == 0.0 and at(s[-1]) == 0.0
+    # equal rooms: no fitted shape (it would be a held one)
+    same = candidates(path, feature, -90.0, room_m=2.0, rooms_m=(2.0, 6.0, 2.1))
+    assert not [c for c in same if c.shape == "fitted"]

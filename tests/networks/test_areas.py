@@ -7,7 +7,14 @@ import math
 import numpy as np
 import shapely
 
-from networks.areas import MIN_HOLE_M2, _fill_small_holes, _union_rows, attach_areas
+from networks.areas import (
+    CRACK_M,
+    MIN_HOLE_M2,
+    _fill_small_holes,
+    _union_rows,
+    attach_areas,
+    close_cracks,
+)
 from networks.curves import extract_curves
 from networks.reader import read_network
 
@@ -45,6 +52,29 @@ def test_small_holes_are_filled_islands_kept():
     area = square.difference(wedge).difference(island)
     filled = _fill_small_holes(area)
     assert filled.area == 400 - 16 and 0.25 < MIN_HOLE_M2 < 16
+
+
+def test_cracks_between_two_directions_are_closed_a_median_is_kept():
+    # a street's two directions drawn from two lines 0.06 degrees apart: the lanes part
+    # along a wedge that opens to 0.15 m at 40 m (bs3d, edge 22959383); a car's envelope
+    # reaching 5 cm into it left the "paved" area
+    east = shapely.LineString([(0, -1.6), (40, -1.6)]).buffer(1.6, cap_style="flat")
+    west = shapely.LineString([(0, 1.6), (40, 1.75)]).buffer(1.6, cap_style="flat")
+    street = shapely.union(east, west)
+    wedge = shapely.Polygon([(0, 0), (40, 0), (40, 0.15)])
+    assert street.intersection(wedge).area < 0.01  # open before
+    closed = close_cracks(np.array([street], dtype=object))[0]
+    assert closed.covers(wedge.intersection(shapely.box(1, -1, 39, 1)))
+    # nothing is added beyond the crack (the slanted ends' notches, mm wide): the
+    # closing keeps the outline, corners included
+    assert abs(closed.area - street.area - wedge.area) < 0.002
+    assert np.allclose(closed.bounds, street.bounds, atol=1e-9)
+    # a 1 m median between two carriageways is wider than 2 CRACK_M: kept
+    far = shapely.LineString([(0, 4.2), (40, 4.2)]).buffer(1.6, cap_style="flat")
+    split = shapely.union(east, far)
+    kept = close_cracks(np.array([split], dtype=object))[0]
+    assert 2 * CRACK_M < 1.0 and kept.geom_type == "MultiPolygon"
+    assert math.isclose(kept.area, split.area, rel_tol=1e-9)
 
 
 def test_kinked_lanes_leave_no_gap_and_areas_nest(build_net):

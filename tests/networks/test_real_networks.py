@@ -170,7 +170,9 @@ def test_real_network_judged_in_the_feature_and_mostly_drivable(bologna_p):
 
 def test_real_network_is_flat_and_its_levels_would_be_its_plan_areas():
     # bologna_joined has no heights: judged in plan as before (no levels at all), and the
-    # levels' member lists rebuild exactly the plan areas (forced into one storey)
+    # levels' member lists rebuild the plan areas (forced into one storey): the lanes and
+    # roadways exactly, the paved areas but for slivers of a few hundredths of a m² where
+    # the crack closing (networks.areas.close_cracks) of a union built another way differs
     from networks.area_book import curve_levels, network_is_flat
     from networks.area_groups import AreaIndex
 
@@ -184,7 +186,8 @@ def test_real_network_is_flat_and_its_levels_would_be_its_plan_areas():
         (lv,) = curve_levels(index, c, force=True)
         for mine, plan in ((lv.areas.own_lanes, c.own_lanes), (lv.areas.paved, c.paved),
                            (lv.areas.roadway, c.roadway)):
-            assert shapely.symmetric_difference(mine, plan).area <= 1e-6 * plan.area, c.curve_id
+            tol = 5e-5 if plan is c.paved else 1e-6
+            assert shapely.symmetric_difference(mine, plan).area <= tol * plan.area, c.curve_id
         checked += 1
     assert checked > 20
 
@@ -233,3 +236,22 @@ def test_real_network_turn_is_not_judged_against_a_street_lifted_5_m():
     at_turn = [lv for lv in levels if lv.z_lo_m <= c.centerline[0, 2] <= lv.z_hi_m + 1e-9]
     assert at_turn and not at_turn[0].areas.paved.covers(pt)
     assert at_turn[0].areas.paved.covers(c.own_lanes.buffer(-0.01))
+
+
+def test_a10kw_u_turns_onto_the_other_carriageway_are_uturns():
+    # SUMO marks these "l" and "s": a 143 degree turn back round a median's nose onto the
+    # other carriageway, and a 160 degree turning loop; both run back alongside their
+    # approach, as U-turns do, and are left out of a study with the dir="t" turnarounds
+    net = read_network(_game_net("A10KW/osm.net.xml"))
+    dirs = {(c.from_edge, c.to_edge): c.direction for c in net.connections}
+    assert dirs[("225981818#3", "-256366931#3")] == "l"
+    assert dirs[("6272844#4", "5067107#1")] == "s"
+    turns = {c.curve_id for c in extract_curves(net, ("turn",), areas=False)}
+    uturns = {c.curve_id: c for c in extract_curves(net, ("uturn",), areas=False)}
+    for tail in ("59909485:225981818#3_0->-256366931#3_0", "2289456329:6272844#4_0->5067107#1_0"):
+        assert f"uturn:{tail}" in uturns and f"turn:{tail}" not in turns
+        assert abs(uturns[f"uturn:{tail}"].turn_angle_deg) > 135
+    # a sharp turn that does not come back alongside stays a turn
+    sharp = [c for c in extract_curves(net, ("turn",), areas=False)
+             if abs(c.turn_angle_deg) > 120]
+    assert sharp, "A10KW has sharp turns that are not U-turns"

@@ -44,12 +44,16 @@ def test_results_hold_the_designed_verdicts(outputs):
     rows = _results(outputs[0])
     assert list(next(iter(rows.values())))[: len(cmd_simulate.RESULT_COLUMNS)] == list(
         cmd_simulate.RESULT_COLUMNS)
-    # the designed verdicts are the lane's; a bus that cannot make the T on its lane
-    # swings wide into the opposing lanes and makes it
+    # the designed verdicts are the lane's; a bus that cuts X's NW curb on its lane
+    # swings into the two opposing lanes and stays paved; one that cannot make the T on
+    # its lane swings wide into the opposing lane and makes it
     lane = {k: r["lane_verdict"] for k, r in rows.items()}
     assert lane[("P", CURVES[0])] == "clear" == rows[("P", CURVES[0])]["verdict"]
     assert rows[("P", CURVES[0])]["path"] == "lane"
-    assert lane[("CITY-BUS", CURVES[0])] == "fails" == rows[("CITY-BUS", CURVES[0])]["verdict"]
+    assert lane[("CITY-BUS", CURVES[0])] == "fails"
+    nw = rows[("CITY-BUS", CURVES[0])]
+    assert (nw["verdict"], nw["path"], nw["encroaches_on"]) == (
+        "encroaches", "swung", "opposing lanes")
     bus = rows[("CITY-BUS", CURVES[1])]
     assert lane[("CITY-BUS", CURVES[1])] == "cannot-turn"
     assert (bus["verdict"], bus["path"], bus["encroaches_on"]) == (
