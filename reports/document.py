@@ -22,7 +22,13 @@ from pathlib import Path
 import pandas as pd
 
 from networks.curves import Curve
-from reports.feedback import serves_counts, serves_sentence, size_order
+from reports.feedback import (
+    serves_counts,
+    serves_html,
+    serves_markdown,
+    serves_sentence,
+    size_order,
+)
 from reports.figures import COLOURS, plot_curve, plot_network, worst_by_curve
 from reports.file_names import file_name
 from reports.profile_figure import VerticalEntry, vertical_entries
@@ -34,7 +40,7 @@ from reports.vertical import vertical_words
 from reports.waivers import Waived
 
 __all__ = ["COMPACT_MADE", "CSS", "CurveEntry", "HTML_IMAGE_COLOURS", "HTML_IMAGE_WIDTH_PX",
-           "MATRIX_VEHICLES", "MAX_CURVE_FIGURES", "MAX_ENVELOPES", "SERVES_NOTE", "SYMBOL",
+           "MATRIX_VEHICLES", "MAX_CURVE_FIGURES", "MAX_ENVELOPES", "SYMBOL",
            "Section", "TIGHT_M", "anchor", "build_sections", "compact_key", "compact_png",
            "html_document", "margin_words", "markdown", "pick_envelopes", "run_words"]
 
@@ -245,11 +251,7 @@ def markdown(study: Study, sections: list[Section], folder: Path, units: str = "
                   "| " + " | ".join(str(v) for v in s.counts.values()) + " |", "",
                   f"![plan of {s.name}]({_rel(s.plan, folder)})", ""]
         if s.serves:
-            lines += [f"Design feedback: curves by what they serve up to ({SERVES_NOTE}).", "",
-                      "| vehicle | curves it is the largest to clear | to stay paved on |",
-                      "|---|---|---|"]
-            lines += [f"| {_md_cell(name)} | {a} | {b} |" for name, a, b in _serves_rows(s)]
-            lines.append("")
+            lines += serves_markdown(s.serves, _md_cell)
         worst = []
         for i, r in enumerate(s.worst.head(8).itertuples(), start=1):
             if r.verdict == "clear" and r.margin_m > TIGHT_M:
@@ -477,24 +479,6 @@ def _summary_html(s: Section, units: str) -> str:
     return f'<p class="summary">{text}.</p>'
 
 
-SERVES_NOTE = ("the largest vehicle of the study (by curb-to-curb turning diameter) that "
-               "clears the curve, and that stays on the pavement (clear or encroaching); a "
-               "smaller vehicle may still not clear it (the curve's section says so)")
-
-
-def _serves_rows(s: Section) -> list[tuple[str, int, int]]:
-    return [(name or "none", a, b) for name, a, b in s.serves]
-
-
-def _serves_html(s: Section) -> str:
-    e = html.escape
-    rows = "".join(f'<tr><td class="id">{e(name)}</td><td>{a}</td><td>{b}</td></tr>'
-                   for name, a, b in _serves_rows(s))
-    return (f"<p>Design feedback: curves by what they serve up to ({SERVES_NOTE}).</p>"
-            '<table><tr><th class="id">vehicle</th><th>curves it is the largest to clear'
-            "</th><th>to stay paved on</th></tr>" + rows + "</table>")
-
-
 def _matrix_html(s: Section, links: dict[str, str]) -> list[str]:
     e = html.escape
     out = []
@@ -583,7 +567,7 @@ def html_document(study: Study, sections: list[Section], units: str = "m",
         out.append(f'<h2 id="{net}">{e(s.name)}</h2>')
         out.append(_summary_html(s, units))
         if s.serves:
-            out.append(_serves_html(s))
+            out.append(serves_html(s.serves))
         out.append("<table><tr>" + "".join(f"<th>{e(k)}</th>" for k in s.counts)
                    + "</tr><tr>" + "".join(f"<td>{v}</td>" for v in s.counts.values())
                    + "</tr></table>")

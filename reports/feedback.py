@@ -21,8 +21,9 @@ docs/design.md §6, *Design feedback*:
 
 from __future__ import annotations
 
+import html
 import math
-from collections.abc import Iterable, Sequence
+from collections.abc import Callable, Iterable, Sequence
 
 import pandas as pd
 
@@ -32,9 +33,10 @@ from networks.curves import Curve
 from reports.records import RunRecord
 from vehicles.table import VehicleTable
 
-__all__ = ["ENCROACHING", "SERVING", "beyond_words", "not_served_below", "overreach_of",
-           "overreach_point", "overreach_words", "serves", "serves_counts", "serves_sentence",
-           "set_overreach", "set_serves_up_to", "size_order"]
+__all__ = ["ENCROACHING", "SERVES_NOTE", "SERVING", "beyond_words", "not_served_below",
+           "overreach_of", "overreach_point", "overreach_words", "serves", "serves_counts",
+           "serves_html", "serves_markdown", "serves_sentence", "set_overreach",
+           "set_serves_up_to", "size_order"]
 
 #: Verdicts with which a vehicle is served: clear, and on the pavement.
 SERVING = ("clear",)
@@ -244,3 +246,32 @@ def overreach_point(record: RunRecord) -> tuple[float, float, float, float] | No
     if not all(math.isfinite(v) for v in values):
         return None
     return values
+
+
+#: What the per-network table of design feedback counts (its caption, in words).
+SERVES_NOTE = ("the largest vehicle of the study (by curb-to-curb turning diameter) that "
+               "clears the curve, and that stays on the pavement (clear or encroaching); a "
+               "smaller vehicle may still not clear it (the curve's section says so)")
+
+
+def _serves_rows(serves: Sequence[tuple[str, int, int]]) -> list[tuple[str, int, int]]:
+    return [(name or "none", a, b) for name, a, b in serves]
+
+
+def serves_html(serves: Sequence[tuple[str, int, int]]) -> str:
+    """The report's table of curves by what they serve up to (:func:`serves_counts`)."""
+    e = html.escape
+    rows = "".join(f'<tr><td class="id">{e(name)}</td><td>{a}</td><td>{b}</td></tr>'
+                   for name, a, b in _serves_rows(serves))
+    return (f"<p>Design feedback: curves by what they serve up to ({SERVES_NOTE}).</p>"
+            '<table><tr><th class="id">vehicle</th><th>curves it is the largest to clear'
+            "</th><th>to stay paved on</th></tr>" + rows + "</table>")
+
+
+def serves_markdown(serves: Sequence[tuple[str, int, int]],
+                    cell: Callable[[str], str]) -> list[str]:
+    """The same table as markdown lines (``cell`` escapes a cell's text)."""
+    return [f"Design feedback: curves by what they serve up to ({SERVES_NOTE}).", "",
+            "| vehicle | curves it is the largest to clear | to stay paved on |",
+            "|---|---|---|",
+            *(f"| {cell(name)} | {a} | {b} |" for name, a, b in _serves_rows(serves)), ""]
