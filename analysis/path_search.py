@@ -425,12 +425,8 @@ def candidates(path: Path, feature_m: tuple[float, float], turn_angle_deg: float
         if np.min(1.0 - lane.curvature_1_m * d) <= MIN_FOLD:
             continue
         label = f"swung {a0:g} m, cut {cut:g}" if shape == "held" else f"swung {a0:g} to {a1:g} m"
-        p = offset_path(lane, d, name=f"{path.name} ({label})")
-        seg = np.hypot(*np.diff(moved(lane, d), axis=0).T)
-        smap = np.concatenate([[0.0], np.cumsum(seg)])
-        ls = lane.station_m
-        window = (float(np.interp(min(a, feature_m[0]) - s[keep][0], ls, smap)),
-                  float(np.interp(max(e, feature_m[1]) - s[keep][0], ls, smap)))
+        p, window, smap = _offset_run(path, lane, keep, d, (a, e), feature_m,
+                                      f"{path.name} ({label})")
         out.append(Candidate(float(a0), float(cut), d, p, window, smap, shape, float(a1)))
     if search.shaped and inside_room_m > search.min_amplitude_m:
         k_in = path.curvature_1_m[(s >= feature_m[0]) & (s <= feature_m[1])]
@@ -476,14 +472,24 @@ def _apex_bumps(path: Path, feature_m: tuple[float, float], side: float, search:
         d = -side * apex_bump(s, feature_m, depth, ramp)[keep]
         if np.min(1.0 - lane.curvature_1_m * d) <= MIN_FOLD:
             continue
-        p = offset_path(lane, d, name=f"{path.name} (cut {depth:g} m inside)")
-        seg = np.hypot(*np.diff(moved(lane, d), axis=0).T)
-        smap = np.concatenate([[0.0], np.cumsum(seg)])
-        ls = lane.station_m
-        window = (float(np.interp(min(a, feature_m[0]) - s[keep][0], ls, smap)),
-                  float(np.interp(max(e, feature_m[1]) - s[keep][0], ls, smap)))
+        p, window, smap = _offset_run(path, lane, keep, d, (a, e), feature_m,
+                                      f"{path.name} (cut {depth:g} m inside)")
         out.append(Candidate(0.0, 0.0, d, p, window, smap, "inside", 0.0, depth))
     return out
+
+
+def _offset_run(path: Path, lane: Path, keep: slice, d: np.ndarray,
+                span_m: tuple[float, float], feature_m: tuple[float, float], name: str
+                ) -> tuple[Path, tuple[float, float], np.ndarray]:
+    """The path ``lane`` (``path``'s stations ``keep``) offset by ``d``; the judged window
+    on it (the manoeuvre ``span_m`` and the feature, on the offset line's stations); and
+    the offset line's stations at the lane's points (the station map)."""
+    p = offset_path(lane, d, name=name)
+    smap = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(moved(lane, d), axis=0).T))])
+    ls, s0 = lane.station_m, path.station_m[keep][0]
+    window = (float(np.interp(min(span_m[0], feature_m[0]) - s0, ls, smap)),
+              float(np.interp(max(span_m[1], feature_m[1]) - s0, ls, smap)))
+    return p, window, smap
 
 
 def _kept(path: Path, a: float, e: float, reach_m: float | None) -> tuple[Path, slice]:

@@ -164,6 +164,12 @@ def _polygon(
     return rings  # type: ignore[return-value]
 
 
+def _run_properties(r: EnvelopeRecord) -> dict[str, object]:
+    """What every feature of a run says about it: network, vehicle, curve, kind, verdict."""
+    return {"network": r.network, "vehicle": r.vehicle, "curve_id": r.curve_id,
+            "kind": r.kind, "verdict": r.verdict}
+
+
 def _overreach_feature(r: EnvelopeRecord, offset: tuple[float, float],
                        transformer: pyproj.Transformer | None) -> dict[str, Any]:
     """A Point Feature at a record's worst overreach, with the design feedback."""
@@ -178,11 +184,7 @@ def _overreach_feature(r: EnvelopeRecord, offset: tuple[float, float],
                              "longitude/latitude for its worst overreach")
         coords = [round(float(lon), DEG_DIGITS) + 0.0, round(float(lat), DEG_DIGITS) + 0.0]
     properties = {
-        "network": r.network,
-        "vehicle": r.vehicle,
-        "curve_id": r.curve_id,
-        "kind": r.kind,
-        "verdict": r.verdict,
+        **_run_properties(r),
         "feature": "worst overreach",
         "beyond": "paved area" if r.verdict == "fails" else "own lanes",
         "margin_m": r.margin_mm,
@@ -264,14 +266,7 @@ def write_geojson(
             if len(polys) == 1
             else {"type": "MultiPolygon", "coordinates": polys}
         )
-        properties = {
-            "network": r.network,
-            "vehicle": r.vehicle,
-            "curve_id": r.curve_id,
-            "kind": r.kind,
-            "verdict": r.verdict,
-            "margin_m": r.margin_mm,
-        }
+        properties = {**_run_properties(r), "margin_m": r.margin_mm}
         features.append({"type": "Feature", "geometry": geometry, "properties": properties})
     # the worst overreach of each run not clear, as points after the envelopes
     for r in recs:
