@@ -6,11 +6,13 @@ import math
 
 import numpy as np
 import pytest
+import shapely
 
 from analysis.path_shapes import (
     apex_bump,
     corner_cut,
     max_curvature_1_m,
+    nearest_on,
     offset_path,
     offset_profile,
     shaped_profile,
@@ -93,3 +95,22 @@ def test_fitted_profile_and_apex_bump_keep_their_ends():
     assert np.all(b[s <= 24.0] < 1e-12) and np.all(b[s >= 46.0] < 1e-12)
     assert b.max() == pytest.approx(1.2, abs=1e-3)
     assert s[np.argmax(b)] == pytest.approx(35.0, abs=0.1)  # deepest at the middle
+
+
+def test_nearest_on_agrees_with_shapely_linear_referencing() -> None:
+    """The numpy projection gives shapely's station and point for points all around a
+    winding line (an independent implementation of the same definition)."""
+    rng = np.random.default_rng(7)
+    a = np.radians(np.linspace(0.0, 250.0, 80))
+    line = np.c_[9.0 * np.cos(a) + 0.02 * a**2, 6.0 * np.sin(a)]
+    pts = rng.uniform(-14.0, 14.0, size=(300, 2))
+    station, near = nearest_on(line, pts)
+    geom = shapely.LineString(line)
+    want = shapely.line_locate_point(geom, shapely.points(pts))
+    got_d = np.hypot(*(near - pts).T)
+    want_d = shapely.distance(geom, shapely.points(pts))
+    assert np.allclose(got_d, want_d, atol=1e-9)
+    unique = np.abs(station - want) < 1e-6  # points equally near two parts may differ
+    assert unique.mean() > 0.97
+    assert np.allclose(shapely.get_coordinates(shapely.line_interpolate_point(geom, station)),
+                       near, atol=1e-9)
