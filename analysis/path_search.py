@@ -61,9 +61,12 @@ Each followed candidate's envelope is judged against the curve's areas over the 
 the candidate's ramps (the whole manoeuvre, :func:`judged_window`), and the best is kept
 (:func:`rank`): the worst area the envelope leaves first (none, then its own lanes but not
 its roadway, then the roadway but not the paved area, then the paved area, then
-``cannot-turn``), then the largest margin to the area it stays in (to the paved area for
-one that leaves it). The lane's own result wins ties: a swung path is taken only when it is
-better by a whole tier, or by more than :data:`BETTER_BY_M` in the same tier.
+``cannot-turn``), then within a tier the path a designer would draw
+(:func:`decisive_margin`): the most room for a clear one, the least reach beyond what it
+encroaches on for the others. The lane's own result wins ties: a swung path is taken only
+when it is better by a whole tier, or by more than :data:`BETTER_BY_M` in the same tier.
+The candidates are tried in rounds of growing size, and the search of a run stops once a
+round finds a paved path better than its lane's (:mod:`networks.sumo.swing`).
 """
 
 from __future__ import annotations
@@ -170,6 +173,11 @@ class SwingSearch:
             raise InputError("swing search: ramp and inside step lengths must be > 0 m")
 
     @property
+    def middle_cut(self) -> float:
+        """The apex cut of the first rounds and of the fitted shapes (the middle one)."""
+        return self.apex_cuts[len(self.apex_cuts) // 2]
+
+    @property
     def count(self) -> int:
         """Candidates per run (at most; folding ones are left out)."""
         return self.steps * (len(self.apex_cuts) + (2 if self.shaped else 0))
@@ -208,6 +216,9 @@ class Candidate:
         ``held`` (the amplitude over the whole feature), ``fitted`` (``amplitude_m`` at the
         feature's start, ``exit_m`` at its end) or ``inside`` (cutting the corner, at most
         ``inside_m`` inside the centre line within the feature; ``amplitude_m`` 0).
+    step
+        Its size in its shape's family: ``k`` of ``k = 1 .. steps`` (the round it is
+        tried in, :func:`networks.sumo.swing.swing_pass`).
     """
 
     amplitude_m: float
@@ -219,6 +230,7 @@ class Candidate:
     shape: str = "held"
     exit_m: float = 0.0
     inside_m: float = 0.0
+    step: int = 1
 
     @property
     def how(self) -> str:
@@ -345,8 +357,10 @@ def candidates(path: Path, feature_m: tuple[float, float], turn_angle_deg: float
                search: SwingSearch | None = None, room_m: float = math.inf,
                reach_m: float | None = None,
                rooms_m: tuple[float, float, float] | None = None,
-               inside_room_m: float = 0.0) -> list[Candidate]:
+               inside_room_m: float = 0.0, step: int | None = None) -> list[Candidate]:
     """The swung paths of one run, in the search's order (see the module docstring).
+
+    With ``step`` only those of that size ``k`` (:attr:`Candidate.step`).
 
     With ``reach_m`` each candidate keeps only the centre line from ``reach_m`` before its
     ramp in to ``reach_m`` after its ramp out (a vehicle's length and a little more: all a
@@ -399,22 +413,24 @@ def candidates(path: Path, feature_m: tuple[float, float], turn_angle_deg: float
     if side == 0.0:
         return []
     # (shape, start amplitude, exit amplitude, cut, ramp in, ramp out)
-    plans: list[tuple[str, float, float, float, float, float]] = []
-    for amp in search.amplitudes_m(room_m):
+    plans: list[tuple[str, float, float, float, float, float, int]] = []
+    for k, amp in enumerate(search.amplitudes_m(room_m), start=1):
         ramp = search.ramp_m(amp)
-        plans += [("held", amp, amp, cut, ramp, ramp) for cut in search.apex_cuts]
+        plans += [("held", amp, amp, cut, ramp, ramp, k) for cut in search.apex_cuts]
     if search.shaped and rooms_m is not None:
         top = search.max_amplitude_m
         r0, r1 = min(max(rooms_m[0], 0.0), top), min(max(rooms_m[2], 0.0), top)
         if abs(r0 - r1) > FITTED_MIN_M:
-            cut = search.apex_cuts[len(search.apex_cuts) // 2]
+            cut = search.middle_cut
             for k in range(1, search.steps + 1):
                 a0 = round(max(search.min_amplitude_m, r0 * k / search.steps), 3)
                 a1 = round(r1 * k / search.steps, 3)
-                plans.append(("fitted", a0, a1, cut, search.ramp_m(a0), search.ramp_m(a1)))
+                plans.append(("fitted", a0, a1, cut, search.ramp_m(a0), search.ramp_m(a1), k))
     s = path.station_m
     out = []
-    for shape, a0, a1, cut, ramp_in, ramp_out in plans:
+    for shape, a0, a1, cut, ramp_in, ramp_out, k in plans:
+        if step is not None and k != step:
+            continue
         a, _, _, _ = ramp_bounds(path.length_m, feature_m, ramp_in)
         _, _, _, e = ramp_bounds(path.length_m, feature_m, ramp_out)
         lane, keep = _kept(path, a, e, reach_m)
@@ -427,22 +443,26 @@ def candidates(path: Path, feature_m: tuple[float, float], turn_angle_deg: float
         label = f"swung {a0:g} m, cut {cut:g}" if shape == "held" else f"swung {a0:g} to {a1:g} m"
         p, window, smap = _offset_run(path, lane, keep, d, (a, e), feature_m,
                                       f"{path.name} ({label})")
-        out.append(Candidate(float(a0), float(cut), d, p, window, smap, shape, float(a1)))
+        out.append(Candidate(float(a0), float(cut), d, p, window, smap, shape, float(a1),
+                             step=k))
     if search.shaped and inside_room_m > search.min_amplitude_m:
         k_in = path.curvature_1_m[(s >= feature_m[0]) & (s <= feature_m[1])]
         corner = (abs(turn_angle_deg) <= 150.0 and not len(k_in) == 0
                   and float(np.max(side * k_in)) < 1.0 / REVERSE_RADIUS_M)
         out += (_corner_cuts if corner else _apex_bumps)(path, feature_m, side, search,
-                                                         inside_room_m, reach_m)
+                                                         inside_room_m, reach_m, step)
     return out
 
 
 def _corner_cuts(path: Path, feature_m: tuple[float, float], side: float, search: SwingSearch,
-                 inside_room_m: float, reach_m: float | None) -> list[Candidate]:
+                 inside_room_m: float, reach_m: float | None, step: int | None = None
+                 ) -> list[Candidate]:
     """The *inside* candidates of one corner: :func:`corner_cut` 2, 4, 8, 16 m out."""
     out = []
     s = path.station_m
     for k in range(1, search.steps + 1):
+        if step is not None and k != step:
+            continue
         lead = search.inside_step_m * 2.0 ** (k - 1)
         lane, keep = _kept(path, feature_m[0] - lead, feature_m[1] + lead, reach_m)
         base = float(s[keep][0])
@@ -454,17 +474,21 @@ def _corner_cuts(path: Path, feature_m: tuple[float, float], side: float, search
         depth = float(np.max(-side * d[inner])) if inner.any() else 0.0
         if p is lane or depth <= search.min_amplitude_m or depth > inside_room_m:
             continue
-        out.append(Candidate(0.0, 0.0, d, p, window, smap, "inside", 0.0, round(depth, 3)))
+        out.append(Candidate(0.0, 0.0, d, p, window, smap, "inside", 0.0, round(depth, 3),
+                             step=k))
     return out
 
 
 def _apex_bumps(path: Path, feature_m: tuple[float, float], side: float, search: SwingSearch,
-                inside_room_m: float, reach_m: float | None) -> list[Candidate]:
+                inside_room_m: float, reach_m: float | None, step: int | None = None
+                ) -> list[Candidate]:
     """The *inside* candidates of a feature that is not one corner: :func:`apex_bump`."""
     out = []
     s = path.station_m
     top = min(inside_room_m, search.max_amplitude_m)
     for k in range(1, search.steps + 1):
+        if step is not None and k != step:
+            continue
         depth = round(top * k / search.steps, 3)
         ramp = search.ramp_m(depth)
         a, _, _, e = ramp_bounds(path.length_m, feature_m, ramp)
@@ -474,7 +498,7 @@ def _apex_bumps(path: Path, feature_m: tuple[float, float], side: float, search:
             continue
         p, window, smap = _offset_run(path, lane, keep, d, (a, e), feature_m,
                                       f"{path.name} (cut {depth:g} m inside)")
-        out.append(Candidate(0.0, 0.0, d, p, window, smap, "inside", 0.0, depth))
+        out.append(Candidate(0.0, 0.0, d, p, window, smap, "inside", 0.0, depth, step=k))
     return out
 
 
@@ -536,22 +560,33 @@ def tier(clearance: Clearance | None) -> int:
 
 
 def decisive_margin(clearance: Clearance | None) -> float:
-    """The margin that orders paths of one tier: to the area the envelope stays in.
+    """The margin that orders paths of one tier: the room to spare where the path stays in
+    its lanes, else the least it encroaches on what it reaches into.
+
+    A clear path: its margin to its own lanes (the most room best). One that leaves its own
+    lanes but stays in its roadway: its margin to its own lanes (the least reach into the
+    same-direction lanes best). One that leaves its roadway but stays paved: its margin to
+    the roadway (the least reach into the opposing lanes best), whatever room it leaves to
+    the curb. One that leaves the pavement: its margin to the paved area.
 
     Examples
     --------
     >>> decisive_margin(Clearance("encroaches", -0.4, 0.6, -0.1, 0.0, ""))
-    0.6
+    -0.1
+    >>> decisive_margin(Clearance("encroaches", -0.4, 0.6, 0.2, 0.0, ""))
+    -0.4
     >>> decisive_margin(Clearance("fails", -2.0, -0.3, -1.0, 0.0, ""))
     -0.3
+    >>> decisive_margin(None)
+    -inf
     """
     t = tier(clearance)
     if t == 0 or clearance is None:
         return -math.inf
-    if t == 4:
+    if t in (3, 4):
         return clearance.margin_m
-    if t == 3:
-        return float(clearance.roadway_margin_m)  # type: ignore[arg-type]  # tier 3 has one
+    if t == 2:
+        return float(clearance.roadway_margin_m)  # type: ignore[arg-type]  # tier 2 has one
     return clearance.paved_margin_m
 
 
@@ -560,12 +595,15 @@ def rank(clearances: Sequence[Clearance | None]) -> int:
 
     Examples
     --------
+    A swing 0.8 m into the opposing lanes beats one 1.5 m into them, though the wider one
+    leaves more room to the curb; both beat a lane path the vehicle cannot follow:
+
     >>> lane = Clearance("cannot-turn", -1.0, -0.5, None, 0.0, "lock")
     >>> wide = Clearance("encroaches", -1.2, 0.3, -0.8, 0.0, "")
     >>> wider = Clearance("encroaches", -2.0, 0.5, -1.5, 0.0, "")
-    >>> rank([lane, wide, wider]), rank([wide, wider]), rank([wider, None])
-    (2, 1, 0)
-    >>> rank([wide, Clearance("encroaches", -1.2, 0.33, -0.8, 0.0, "")])
+    >>> rank([lane, wide, wider]), rank([lane, wider, wide]), rank([wider, None])
+    (1, 2, 0)
+    >>> rank([wide, Clearance("encroaches", -1.2, 0.33, -0.78, 0.0, "")])
     0
     """
     best, key = 0, (tier(clearances[0]), decisive_margin(clearances[0]))

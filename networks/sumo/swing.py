@@ -10,12 +10,16 @@ judges each one the follower could drive against the curve's areas over the whol
 manoeuvre (:func:`analysis.clearance.evaluate` with the candidate's window), and keeps the
 best (:func:`analysis.path_search.rank`; the lane's result wins ties). A candidate the
 follower cannot drive within the lock and steering rate in that window is not judged (it
-ranks as ``cannot-turn``). The driven candidates are judged in two stages: every held
-amplitude with the middle apex cut and every fitted and inside shape, then the other cuts
-of the best held amplitude so far and of its two neighbours; the first ``clear`` one ends
-that run's search (no later one can be in a better tier). A run that cannot turn and has
-no candidate within its room that the follower can drive gets the held family again with
-the room unbounded (up to :attr:`~analysis.path_search.SwingSearch.max_amplitude_m`):
+ranks as ``cannot-turn``). The candidates go in rounds of growing size: round ``k``
+drives the ``k``-th amplitude of every shape (the held one with the middle apex cut) of
+every run still searching; a run stops searching after the first round in which a
+candidate is ``clear``, or keeps its body on the pavement in a better tier than its lane
+path's (a driver swings only as far as the turn needs: a wider swing of the same shape
+reaches further into the lanes beside). A run still searching after the last round gets
+the other cuts of its best held amplitude and of its two neighbours. A run that cannot
+turn and has no candidate within its room that the follower can drive gets the held
+family again with the room unbounded (up to
+:attr:`~analysis.path_search.SwingSearch.max_amplitude_m`):
 then it ``fails`` by how far the best of those leaves the pavement, and is ``cannot-turn``
 only when none of them can be driven either.
 
@@ -36,6 +40,7 @@ import shapely
 from analysis.clearance import Areas, RunResult, evaluate
 from analysis.feature import feature_mask, feature_reason
 from analysis.path_search import (
+    TIERS,
     Candidate,
     SwingSearch,
     candidates,
@@ -43,6 +48,7 @@ from analysis.path_search import (
     outside_sign,
     rank,
     swing_reason,
+    tier,
 )
 from analysis.polyline import Path
 from analysis.tracking import TrackingRun, TrackingSettings, simulate_batch
@@ -57,6 +63,64 @@ log = logging.getLogger(__name__)
 def needs_swing(d: DrivenRun) -> bool:
     """Whether a run gets the search: judged, not clear, no error."""
     return not d.error and d.result is not None and d.result.verdict != "clear"
+
+
+@dataclasses.dataclass(frozen=True)
+class _Run:
+    """What the search of one run needs, measured once: its path and feature, its rooms."""
+
+    path: Path
+    feature_m: tuple[float, float]
+    turn_angle_deg: float
+    room_m: float
+    rooms_m: tuple[float, float, float] | None
+    inside_m: float
+    reach_m: float
+
+
+def _measure(d: DrivenRun, paths: dict[str, Path], areas: dict[str, Areas]) -> _Run | None:
+    """The room the pavement gives the run, outward and (at the middle) inward."""
+    c = d.curve
+    feature = (c.core_start_m, c.core_end_m)
+    try:
+        path = paths[c.curve_id]
+        side = outside_sign(c.turn_angle_deg)
+        rooms: tuple[float, float, float] | None = None
+        inside = 0.0
+        if side:
+            paved, half = areas[c.curve_id].paved, 0.5 * d.vehicle.width_m
+            rooms = outside_rooms_m(path, feature, side, paved, half)
+            inside = outside_rooms_m(path, feature, -side, paved, half)[1]
+    except (InputError, shapely.errors.ShapelyError) as exc:
+        log.info("%s: no swung paths: %s", c.curve_id, exc)
+        return None
+    room = max(0.0, min(rooms)) if rooms else 0.0
+    # all a judged sample's body covers
+    return _Run(path, feature, c.turn_angle_deg, room, rooms, inside,
+                d.vehicle.overall_length_m + 2.0)
+
+
+def _family(d: DrivenRun, m: _Run, search: SwingSearch, step: int | None,
+            room_m: float | None = None) -> list[tuple[DrivenRun, Candidate]]:
+    """The run's candidates of size ``step`` (all sizes: ``None``); with ``room_m``, the
+    held ones for that room instead of the pavement's."""
+    try:
+        if room_m is not None:
+            return [(d, cand) for cand in candidates(m.path, m.feature_m, m.turn_angle_deg,
+                                                     search, room_m, m.reach_m, step=step)]
+        return [(d, cand) for cand in candidates(
+            m.path, m.feature_m, m.turn_angle_deg, search, m.room_m, m.reach_m, m.rooms_m,
+            m.inside_m, step)]
+    except (InputError, shapely.errors.ShapelyError) as exc:  # no candidates
+        log.info("%s: no swung paths: %s", d.curve.curve_id, exc)
+        return []
+
+
+def _settled(lane: RunResult, tried: list[tuple[Candidate, RunResult | None]]) -> bool:
+    """Whether a run's search may stop: a candidate is clear, or keeps the body on the
+    pavement in a better tier than the lane path's (a wider swing would reach further)."""
+    best = max((tier(r.clearance) for _, r in tried if r is not None), default=0)
+    return best == len(TIERS) - 1 or best > max(1, tier(lane.clearance))
 
 
 def swing_pass(
@@ -76,124 +140,100 @@ def swing_pass(
     t0, c0 = time.perf_counter(), time.process_time()
     for d in out:
         d.lane_result = d.result
-    def family(d: DrivenRun, room_m: float | None) -> list[tuple[DrivenRun, Candidate]]:
-        c = d.curve
-        feature = (c.core_start_m, c.core_end_m)
-        try:
-            path = paths[c.curve_id]
-            side = outside_sign(c.turn_angle_deg)
-            rooms: tuple[float, float, float] | None = None
-            inside = 0.0
-            if room_m is None:  # the room the pavement gives, outward and (middle) inward
-                if side:
-                    paved, half = areas[c.curve_id].paved, 0.5 * d.vehicle.width_m
-                    rooms = outside_rooms_m(path, feature, side, paved, half)
-                    inside = outside_rooms_m(path, feature, -side, paved, half)[1]
-                room_m = max(0.0, min(rooms)) if rooms else 0.0
-            reach = d.vehicle.overall_length_m + 2.0  # all a judged sample's body covers
-            return [(d, cand) for cand in candidates(path, feature, c.turn_angle_deg,
-                                                     search, room_m, reach, rooms, inside)]
-        except (InputError, shapely.errors.ShapelyError) as exc:  # no candidates
-            log.info("%s: no swung paths: %s", c.curve_id, exc)
-            return []
-
-    driven: dict[int, list[tuple[Candidate, TrackingRun]]] = {}
+    runs = [d for d in out if needs_swing(d)]
+    measured = {id(d): m for d in runs if (m := _measure(d, paths, areas)) is not None}
+    tried: dict[int, list[tuple[Candidate, RunResult | None]]] = {id(d): [] for d in runs}
+    count = 0
 
     def drive_all(todo: list[tuple[DrivenRun, Candidate]]) -> None:
+        """Drive the candidates and judge those the follower could drive."""
+        nonlocal count
+        count += len(todo)
         for lo in range(0, len(todo), options.batch_size):
             chunk = todo[lo:lo + options.batch_size]
-            runs = simulate_batch([d.vehicle for d, _ in chunk], [c.path for _, c in chunk],
-                                  settings)
-            for (d, cand), run in zip(chunk, runs, strict=True):
+            driven = simulate_batch([d.vehicle for d, _ in chunk], [c.path for _, c in chunk],
+                                    settings)
+            for (d, cand), run in zip(chunk, driven, strict=True):
                 if not feature_reason(run, feature_mask(run, cand.window_m)):
-                    driven.setdefault(id(d), []).append((cand, run))
+                    tried[id(d)].append((cand, _judged(d, cand, run, areas[d.curve.curve_id],
+                                                       options.offset_m)))
 
-    todo = [x for d in out if needs_swing(d) for x in family(d, None)]
-    drive_all(todo)
+    def lane_of(d: DrivenRun) -> RunResult:
+        assert d.result is not None  # needs_swing: only runs with a result
+        return d.result
+
+    # rounds of growing size: the k-th amplitude of every shape (held ones with the middle
+    # cut), until a candidate keeps the body paved
+    first = dataclasses.replace(search, apex_cuts=(search.middle_cut,))
+    active = [d for d in runs if id(d) in measured]
+    for k in range(1, search.steps + 1):
+        todo = [x for d in active for x in _family(d, measured[id(d)], first, k)]
+        drive_all(todo)
+        active = [d for d in active if not _settled(lane_of(d), tried[id(d)])]
+    # then the other cuts of the best held amplitude so far and of its neighbours
+    others = tuple(c for c in search.apex_cuts if c != search.middle_cut)
+    if others:
+        rest = dataclasses.replace(search, apex_cuts=others, shaped=False)
+        drive_all([x for d in active for k in _near_steps(tried[id(d)], search.steps)
+                   for x in _family(d, measured[id(d)], rest, k)])
     # a run that cannot turn within the pavement's room: the widest swings, beyond it
-    wider = [x for d in out if needs_swing(d) and id(d) not in driven
-             and d.result is not None and d.result.verdict == "cannot-turn"
-             for x in family(d, math.inf)]
+    wider = [x for d in runs if id(d) in measured and not tried[id(d)]
+             and lane_of(d).verdict == "cannot-turn"
+             for x in _family(d, measured[id(d)], search, None, math.inf)]
     drive_all(wider)
-    todo += wider
-    judged: dict[int, list[tuple[Candidate, RunResult | None]]] = {}
-    for d in out:
-        if needs_swing(d):
-            judged[id(d)] = _judge(d, driven.get(id(d), []), areas[d.curve.curve_id],
-                                   options.offset_m, search)
-    taken = 0
-    for d in out:
-        if not needs_swing(d):
-            continue
-        tried = judged[id(d)]
-        lane = d.result
-        assert lane is not None  # needs_swing: only runs with a result
-        best = rank([lane.clearance] + [r.clearance if r is not None else None
-                                        for _, r in tried])
-        if best == 0:
-            if lane.verdict == "cannot-turn":
-                d.result = dataclasses.replace(lane, clearance=dataclasses.replace(
-                    lane.clearance, reason=f"{lane.clearance.reason}; nor can it swing wide: "
-                    f"none of its swung paths (outward offsets up to "
-                    f"{search.max_amplitude_m:g} m, as far as the pavement allows) is "
-                    "within its lock and steering rate"))
-            continue
-        cand, res = tried[best - 1]
-        assert res is not None  # rank never picks a candidate that was not judged
-        why = swing_reason(cand.amplitude_m, cand.apex_cut, res.clearance, cand.how)
-        why += f" (on the lane centre line: {lane.verdict}"
-        if lane.verdict != "cannot-turn":
-            why += f", margin {lane.margin_m:.2f} m"
-        why += ")"
-        d.result = dataclasses.replace(res, clearance=dataclasses.replace(res.clearance,
-                                                                          reason=why))
-        d.path = "swung"
-        d.swing_m = max(cand.amplitude_m, cand.exit_m) if cand.shape != "inside" else \
-            -cand.inside_m
-        taken += 1
+    taken = sum(_choose(d, lane_of(d), tried[id(d)], search) for d in runs)
     if stats is not None:
-        stats.swing_judged += sum(1 for j in judged.values() for _, r in j if r is not None)
+        stats.swing_judged += sum(1 for j in tried.values() for _, r in j if r is not None)
         stats.swing_s += time.perf_counter() - t0
         stats.swing_cpu_s += time.process_time() - c0
-        stats.swing_candidates += len(todo)
+        stats.swing_candidates += count
     return taken
 
 
-def _judge(d: DrivenRun, driven: list[tuple[Candidate, TrackingRun]], areas: Areas,
-           offset_m: float, search: SwingSearch) -> list[tuple[Candidate, RunResult | None]]:
-    """The verdicts of a run's driven candidates, in two stages.
-
-    First every amplitude with the middle apex cut and every fitted and inside shape; then
-    the other cuts of the best held amplitude and its neighbours. A ``clear`` candidate
-    ends the search.
-    """
-    cuts = search.apex_cuts
-    first_cut = cuts[len(cuts) // 2]
-    amps = sorted({c.amplitude_m for c, _ in driven if c.shape == "held"})
-    out: list[tuple[Candidate, RunResult | None]] = []
-
-    def judge(items: list[tuple[Candidate, TrackingRun]]) -> bool:
-        for cand, run in items:
-            try:
-                res = evaluate(run, areas, offset_m, feature_m=cand.window_m)
-            except (InputError, ValueError, shapely.errors.ShapelyError) as exc:
-                log.info("%s x %s: a swung path could not be judged: %s", d.vehicle.name,
-                         d.curve.curve_id, exc)
-                res = None
-            out.append((cand, res))
-            if res is not None and res.verdict == "clear":
-                return True
-        return False
-
-    stage1 = [x for x in driven if x[0].apex_cut == first_cut or x[0].shape != "held"]
-    if judge(stage1):
-        return out
-    held = [(c, r) for c, r in out if c.shape == "held"]
+def _near_steps(tried: list[tuple[Candidate, RunResult | None]], steps: int) -> list[int]:
+    """The sizes whose other apex cuts are tried: the best held candidate's and its
+    neighbours' (every size when no held one could be judged)."""
+    held = [(c, r) for c, r in tried if c.shape == "held"]
     best = rank([None] + [r.clearance if r else None for _, r in held])
-    near = set(amps)
-    if best:
-        k = amps.index(held[best - 1][0].amplitude_m)
-        near = set(amps[max(0, k - 1):k + 2])
-    judge([x for x in driven if x[0].shape == "held" and x[0].apex_cut != first_cut
-           and x[0].amplitude_m in near])
-    return out
+    if not best:
+        return list(range(1, steps + 1))
+    k = held[best - 1][0].step
+    return [j for j in (k - 1, k, k + 1) if 1 <= j <= steps]
+
+
+def _choose(d: DrivenRun, lane: RunResult, tried: list[tuple[Candidate, RunResult | None]],
+            search: SwingSearch) -> bool:
+    """Keep the best of the lane path and the tried candidates; whether a swung one won."""
+    best = rank([lane.clearance] + [r.clearance if r is not None else None for _, r in tried])
+    if best == 0:
+        if lane.verdict == "cannot-turn":
+            d.result = dataclasses.replace(lane, clearance=dataclasses.replace(
+                lane.clearance, reason=f"{lane.clearance.reason}; nor can it swing wide: "
+                f"none of its swung paths (outward offsets up to "
+                f"{search.max_amplitude_m:g} m, as far as the pavement allows) is "
+                "within its lock and steering rate"))
+        return False
+    cand, res = tried[best - 1]
+    assert res is not None  # rank never picks a candidate that was not judged
+    why = swing_reason(cand.amplitude_m, cand.apex_cut, res.clearance, cand.how)
+    why += f" (on the lane centre line: {lane.verdict}"
+    if lane.verdict != "cannot-turn":
+        why += f", margin {lane.margin_m:.2f} m"
+    why += ")"
+    d.result = dataclasses.replace(res, clearance=dataclasses.replace(res.clearance,
+                                                                      reason=why))
+    d.path = "swung"
+    d.swing_m = max(cand.amplitude_m, cand.exit_m) if cand.shape != "inside" else \
+        -cand.inside_m
+    return True
+
+
+def _judged(d: DrivenRun, cand: Candidate, run: TrackingRun, areas: Areas,
+            offset_m: float) -> RunResult | None:
+    """A driven candidate's verdict over its window (``None`` where it cannot be judged)."""
+    try:
+        return evaluate(run, areas, offset_m, feature_m=cand.window_m)
+    except (InputError, ValueError, shapely.errors.ShapelyError) as exc:
+        log.info("%s x %s: a swung path could not be judged: %s", d.vehicle.name,
+                 d.curve.curve_id, exc)
+        return None

@@ -69,3 +69,33 @@ def test_bus_swings_into_the_second_lane_and_clears_the_curb(tmp_path, netconver
     assert r.result.clearance.paved_margin_m >= 0  # clears the curb
     assert r.result.clearance.roadway_margin_m >= 0  # inside its own direction's lanes
     assert r.swing_m > 0
+
+
+def test_the_path_kept_reaches_least_into_the_opposing_lanes(tmp_path, netconvert, table,
+                                                             monkeypatch):
+    """Among the paved paths tried, the one kept reaches least far beyond its roadway (a
+    designer draws the smallest swing that clears the curb, not the one with most room to
+    it), and the search stops at the first round that finds a paved path."""
+    import networks.sumo.swing as swing
+    from analysis.path_search import BETTER_BY_M, tier
+
+    seen = []
+    choose = swing._choose
+
+    def spy(d, lane, tried, search):
+        seen.append(list(tried))
+        return choose(d, lane, tried, search)
+
+    monkeypatch.setattr(swing, "_choose", spy)
+    net, c = _turn(tmp_path, netconvert, "two_way_least", 3.0, 1, 1, 3.2)
+    r = _drive(net, table.vehicle("P"), c)
+    assert r.encroaches_on == "opposing lanes"
+    (tried,) = seen
+    paved = [res.clearance for _, res in tried if res is not None and tier(res.clearance) == 2]
+    assert paved
+    kept = r.result.clearance.roadway_margin_m
+    assert kept >= max(p.roadway_margin_m for p in paved) - BETTER_BY_M
+    # rounds: nothing larger than the round that found the first paved path was driven
+    rounds = [cand.step for cand, res in tried]
+    first = min(cand.step for cand, res in tried if res is not None and tier(res.clearance) >= 2)
+    assert max(rounds) == first
