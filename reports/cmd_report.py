@@ -412,8 +412,12 @@ def run(args: argparse.Namespace) -> int:
         study = run_study(nets, table, args.method, args.clearance, fcd_dir=fcd,
                           executor=executor, selection=selection, swing=not args.lane_only,
                           max_grade_pct=args.max_grade_pct)
+        log.info("study: %d runs in %.1f s", len(study.records), time.perf_counter() - t0)
         waived = study_waivers(study.frame(), waivers) if waivers is not None else None
+        t1 = time.perf_counter()
         write_report(study, staging, tables, args.units, waived, origin, executor)
+        log.info("report, figures, sheets and exports written in %.1f s",
+                 time.perf_counter() - t1)
     frame = study.frame()
     counts = frame.verdict.value_counts()
     curves = sum(len(n.curves) for n in study.networks)
