@@ -47,8 +47,8 @@ from reports.records import RunRecord
 from vehicles.errors import InputError
 from vehicles.vehicle import Vehicle
 
-__all__ = ["Batch", "DriveTask", "bare", "detached", "error_record", "isolate", "lost_batch",
-           "lost_drive", "run_batch", "run_drive", "split_batch", "split_drive",
+__all__ = ["Batch", "DriveTask", "bare", "detached", "driven_record", "error_record", "isolate",
+           "lost_batch", "lost_drive", "run_batch", "run_drive", "split_batch", "split_drive",
            "with_areas", "worker_network"]
 
 log = logging.getLogger(__name__)
@@ -278,17 +278,21 @@ def _simulated(batch: Batch, net: Network, items: Sequence[tuple[int, Curve]]
     options = DriveOptions(offset_m=batch.clearance_m, fcd_output=fcd, use_sumo=batch.use_sumo,
                            swing=batch.swing)
     runs = drive(net, [(batch.vehicles[v], c) for v, c in items], options=options)
-    return [_driven_record(batch, r) for r in runs]
+    return [driven_record(batch.network, r, batch.clearance_m) for r in runs]
 
 
-def _driven_record(batch: Batch, r: DrivenRun) -> RunRecord:
+def driven_record(network: str, r: DrivenRun, clearance_m: float, conflict: bool = True
+                  ) -> RunRecord:
+    """The study's record of a driven run, its worst overreach filled and said in its reason
+    (:func:`reports.feedback.set_overreach`; ``r.curve`` must hold its areas). ``conflict``:
+    also the envelope's parts outside its lanes and the pavement (the exports')."""
     res, curve, v = r.result, r.curve, r.vehicle
     if res is None:
-        return error_record(batch.network, v, curve, "simulate", batch.clearance_m,
+        return error_record(network, v, curve, "simulate", clearance_m,
                             r.reason or "no result")
     nan = math.nan
     rec = RunRecord(
-        network=batch.network, vehicle=v.name, curve_id=curve.curve_id, kind=curve.kind,
+        network=network, vehicle=v.name, curve_id=curve.curve_id, kind=curve.kind,
         junction=curve.junction, verdict=r.verdict,
         margin_m=res.clearance.margin_m, paved_margin_m=res.clearance.paved_margin_m,
         curve_radius_m=curve.min_radius_m, vehicle_min_radius_m=minimum_ctr_m(v),
@@ -296,10 +300,10 @@ def _driven_record(batch: Batch, r: DrivenRun) -> RunRecord:
         max_offtracking_m=res.swept.max_offtracking_m,
         max_tracking_error_m=r.run.max_error_m if r.run else nan,
         turn_angle_deg=curve.turn_angle_deg, max_grade_pct=curve.max_grade_pct,
-        method="simulate", clearance_m=batch.clearance_m, reason=r.reason,
+        method="simulate", clearance_m=clearance_m, reason=r.reason,
         envelope=res.measured, lane_verdict=r.lane_verdict, lane_margin_m=r.lane_margin_m,
         path=r.path, encroaches_on=r.encroaches_on,
-        conflict=_conflict(res.measured, curve))
+        conflict=_conflict(res.measured, curve) if conflict else None)
     set_overreach(rec, curve)
     return rec
 

@@ -116,7 +116,8 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
     add_lane_only_option(p)
     add_executor_options(p)
     p.add_argument("--units", choices=("m", "ft"), default="m",
-                   help="units of lengths shown in the report documents")
+                   help="units of lengths in clearance.csv, the report documents, sheets "
+                        "and figures (the exports stay in the network's metres)")
     p.add_argument("--fcd", action="store_true",
                    help="also write SUMO FCD output (replay with sumo-gui), simulate only")
     p.add_argument("--origin", metavar="LAT,LON", default=None,
@@ -375,7 +376,7 @@ def write_report(study: Study, folder: Path, tables: list[Path], units: str = "m
     the curve figures, sheets and exports are drawn in its workers (:class:`Drawings`)."""
     from reports.sheets import write_sheets
 
-    write_text_atomic(folder / "clearance.csv", clearance_csv(study, waived))
+    write_text_atomic(folder / "clearance.csv", clearance_csv(study, waived, units))
     write_text_atomic(folder / "summary.json", summary_json(study, tables, waived))
     if executor is None:
         exports = write_exports(study, folder, origin)

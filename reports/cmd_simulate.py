@@ -8,7 +8,11 @@ failing or interrupted run leaves the previous output as it was, and an existing
 is replaced only when it is an earlier simulate output, :data:`LAYOUT`):
 
 ``DIR/results.csv``
-    One row per run (:data:`RESULT_COLUMNS`), lengths in metres.
+    One row per run (:data:`RESULT_COLUMNS`), lengths in metres: the run's measures, its
+    verdict beside the lane's, and the design feedback of ``clearance report``'s
+    ``clearance.csv`` (the largest vehicle of the run's vehicles that the curve serves, a
+    run's worst overreach and the extra width there), filled by the same definitions
+    (:func:`run_records`, :mod:`reports.feedback`), so that the two files agree.
 ``DIR/envelopes.geojson``
     One feature per run: the swept envelope, in longitude/latitude where the network has a
     projection, in its local plane coordinates (metres) otherwise, as the file says
@@ -39,7 +43,7 @@ from pathlib import Path
 import numpy as np
 
 from analysis.tracking import TrackingSettings
-from networks.curves import DEFAULT_KINDS, Curve
+from networks.curves import DEFAULT_KINDS, Curve, CurveOptions
 from networks.reader import Network, read_network
 from networks.selection import check_junctions, load_selected
 from networks.sumo.driver import (
@@ -50,10 +54,11 @@ from networks.sumo.driver import (
 )
 from networks.sumo.tools import sumo_home
 from reports.atomic import current_umask, write_text_atomic
-from reports.batch import DriveTask, detached, lost_drive, run_drive, split_drive
+from reports.batch import DriveTask, detached, driven_record, lost_drive, run_drive, split_drive
 from reports.executor import Executor, LocalExecutor, run_isolated
 from reports.export_geojson import write_geojson
 from reports.exports import EnvelopeRecord
+from reports.feedback import set_serves_up_to
 from reports.file_names import file_name
 from reports.options import (
     add_clearance_option,
@@ -66,16 +71,17 @@ from reports.options import (
     selection_of,
 )
 from reports.output_dir import Layout, output_folder
-from reports.study import network_name
+from reports.records import RunRecord
+from reports.study import APPROACH_M, network_name
 from reports.text_table import format_table
 from vehicles.errors import InputError
-from vehicles.table import load_tables
+from vehicles.table import VehicleTable, load_tables
 from vehicles.vehicle import Vehicle
 
 __all__ = ["LAYOUT", "RESULT_COLUMNS", "TRAILER_COLUMNS", "TRAJECTORY_COLUMNS", "add_parser",
            "csv_text", "drive_in_workers", "envelope_records", "print_summary", "replay_command",
-           "replay_script", "result_row", "run", "trajectory_csv", "trajectory_files",
-           "write_outputs"]
+           "replay_script", "result_row", "run", "run_records", "trajectory_csv",
+           "trajectory_files", "write_outputs"]
 
 #: Columns of ``results.csv``.
 RESULT_COLUMNS = (
@@ -95,6 +101,12 @@ RESULT_COLUMNS = (
     "path",
     "encroaches_on",
     "reason",
+    "serves_up_to",
+    "serves_encroaching_up_to",
+    "overreach_station_m",
+    "overreach_x",
+    "overreach_y",
+    "extra_width_m",
 )
 
 #: Columns of a trajectory CSV (the trailer's only for a vehicle with one).
@@ -177,7 +189,10 @@ def run(args: argparse.Namespace) -> int:
         selection = replace(selection_of(args), kinds=kinds)
         if selection.junctions:
             check_junctions(selection.junctions, [net])
-        curves = select_curves(load_selected(net, selection), args.curve)
+        # the study's lead-ins, so that a run here is the run `clearance report` makes
+        curves = select_curves(load_selected(net, selection,
+                                             CurveOptions(approach_length_m=APPROACH_M)),
+                               args.curve)
         if not curves:
             raise InputError(f"{args.net}: no curve passes the selection "
                              f"({selection.describe()})")
@@ -185,7 +200,8 @@ def run(args: argparse.Namespace) -> int:
             options = replace(options, fcd_output=staging / "fcd.xml")
         runs = drive_in_workers(net, [(v, c) for v in vehicles for c in curves], settings,
                                 options, args.workers)
-        rows = [result_row(r) for r in runs]
+        records = run_records(runs, table, options.offset_m, network_name(Path(net.path)))
+        rows = [result_row(r, rec) for r, rec in zip(runs, records, strict=True)]
         print_summary(rows, args.limit)
         if staging is not None:
             write_outputs(staging, runs, rows, net)
@@ -267,8 +283,19 @@ def _num(value: float | None, digits: int = 3) -> str:
     return text[1:] if text.startswith("-") and float(text) == 0 else text
 
 
-def result_row(r: DrivenRun) -> dict[str, str]:
-    """One ``results.csv`` row (metres to the millimetre)."""
+def run_records(runs: Sequence[DrivenRun], table: VehicleTable, clearance_m: float,
+                network: str = "") -> list[RunRecord]:
+    """The runs as ``clearance report`` records them (:func:`reports.batch.driven_record`):
+    each run's worst overreach (said in its reason) and, per curve over ``table``'s vehicles
+    run on it, the largest it serves (:func:`reports.feedback.set_serves_up_to`)."""
+    records = [driven_record(network, r, clearance_m, conflict=False) for r in runs]
+    set_serves_up_to(records, table)
+    return records
+
+
+def result_row(r: DrivenRun, rec: RunRecord) -> dict[str, str]:
+    """One ``results.csv`` row (metres to the millimetre): the run's measures, and its
+    record's (:func:`run_records`) reason and design feedback."""
     res = r.result
     return {
         "vehicle": r.vehicle.name,
@@ -286,7 +313,13 @@ def result_row(r: DrivenRun) -> dict[str, str]:
         "lane_margin_m": _num(r.lane_margin_m),
         "path": r.path,
         "encroaches_on": r.encroaches_on,
-        "reason": r.reason,
+        "reason": rec.reason,
+        "serves_up_to": rec.serves_up_to,
+        "serves_encroaching_up_to": rec.serves_encroaching_up_to,
+        "overreach_station_m": _num(rec.overreach_station_m),
+        "overreach_x": _num(rec.overreach_x),
+        "overreach_y": _num(rec.overreach_y),
+        "extra_width_m": _num(rec.extra_width_m),
     }
 
 

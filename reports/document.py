@@ -35,7 +35,7 @@ from reports.profile_figure import VerticalEntry, vertical_entries
 from reports.records import RunRecord
 from reports.study import VERDICT_ORDER, NetworkCurves, Study
 from reports.text_table import counted
-from reports.units import length_scale
+from reports.units import length_scale, text_in_units
 from reports.vertical import vertical_words
 from reports.waivers import Waived
 
@@ -236,7 +236,7 @@ def markdown(study: Study, sections: list[Section], folder: Path, units: str = "
     lines = [f"# Clearance report ({study.method})", "",
              f"{counted(len(study.records), 'run')}: {counted(len(study.table), 'vehicle')} "
              f"× the curves of {counted(len(sections), 'network')}; clearance offset "
-             f"{study.clearance_m:g} m. "
+             f"{text_in_units(f'{study.clearance_m:g} m', units)}. "
              "Verdicts, worst first: cannot-turn (the steered axle cannot follow the centre "
              "line within the lock and steering rate), fails (the swept path leaves the "
              "pavement), encroaches (it leaves its own lanes), clear. Margins in "
@@ -261,11 +261,11 @@ def markdown(study: Study, sections: list[Section], folder: Path, units: str = "
         if worst:
             lines += ["Worst curves (numbered on the plan):", "", *worst]
         else:
-            lines.append(f"Every curve is clear for every vehicle with at least {TIGHT_M} m "
-                         "to spare.")
+            lines.append("Every curve is clear for every vehicle with at least "
+                         f"{text_in_units(f'{TIGHT_M} m', units)} to spare.")
         lines += ["", f"### Vehicle × curve matrix ({len(s.matrix)} failing or tight curves; "
                   f"{s.all_clear} curves clear for every vehicle with at least "
-                  f"{TIGHT_M} m to spare are left out)", ""]
+                  f"{text_in_units(f'{TIGHT_M} m', units)} to spare are left out)", ""]
         if len(s.matrix):
             heads = ["curve", *s.matrix.columns]
             lines += ["| " + " | ".join(heads) + " |", "|" + "---|" * len(heads)]
@@ -355,7 +355,7 @@ def run_words(r, units: str = "m") -> str:
         text += f", {margin_words(paved, units, 'the pavement')}"
     reason = getattr(r, "reason", "")
     if reason and (getattr(r, "path", "lane") == "swung" or r.verdict != "clear"):
-        text += f": {reason}"
+        text += f": {text_in_units(reason, units)}"
     return text
 
 
@@ -545,8 +545,9 @@ def html_document(study: Study, sections: list[Section], units: str = "m",
            f'<h1 id="top">Clearance report ({e(study.method)})</h1>',
            f"<p>{counted(len(study.records), 'run')}: {counted(len(study.table), 'vehicle')}"
            f" × the curves of {counted(len(sections), 'network')}; clearance offset "
-           f"{study.clearance_m:g} m. Verdicts, worst first: <b>cannot-turn</b> (the steered "
-           "axle cannot follow the centre line within the lock and steering rate), "
+           f"{text_in_units(f'{study.clearance_m:g} m', units)}. Verdicts, worst first: "
+           "<b>cannot-turn</b> (the steered axle cannot follow the centre line within the "
+           "lock and steering rate), "
            "<b>fails</b> (the swept path leaves the pavement), <b>encroaches</b> (it leaves "
            "its own lanes), <b>clear</b>. Margins in "
            f"{'metres' if units == 'm' else 'feet'}: the gap between the swept path and the "
@@ -589,14 +590,14 @@ def html_document(study: Study, sections: list[Section], units: str = "m",
             out.append("<p>Worst curves (numbered on the plan):</p><ol>" + "".join(items)
                        + "</ol>")
         else:
-            out.append(f"<p>Every curve is clear for every vehicle with at least {TIGHT_M} m "
-                       "to spare.</p>")
+            out.append("<p>Every curve is clear for every vehicle with at least "
+                       f"{text_in_units(f'{TIGHT_M} m', units)} to spare.</p>")
         out.append(f'<h3 id="{net}-matrix">Vehicle × curve matrix</h3><p>'
                    f"{counted(len(s.matrix), 'failing or tight curve')}; "
                    f"{counted(s.all_clear, 'curve')} clear for every vehicle with at least "
-                   f"{TIGHT_M} m to spare left out. Each cell: the verdict (✓ clear, ~ "
-                   "encroaches, ✗ fails, ⊘ cannot-turn) and the margin to the own lanes; "
-                   "click it for the curve.</p>")
+                   f"{text_in_units(f'{TIGHT_M} m', units)} to spare left out. Each cell: the "
+                   "verdict (✓ clear, ~ encroaches, ✗ fails, ⊘ cannot-turn) and the margin to "
+                   "the own lanes; click it for the curve.</p>")
         if len(s.matrix):
             out += _matrix_html(s, links)
         if s.waived:

@@ -46,6 +46,7 @@ from reports.plotting import STYLE, vehicle_colours
 from reports.records import VERDICT_ORDER, RunRecord
 from reports.study import NetworkCurves, Study
 from reports.tables import _version, sha256_of
+from reports.units import text_in_units
 from vehicles.vehicle import Vehicle
 
 __all__ = ["BLOCKS_MM", "FRAME_MM", "MAX_SHEETS", "MM", "PAPER_MM", "SCALES", "fit_scale",
@@ -153,7 +154,8 @@ def verdict_rows(s: Shown, units: str) -> list[tuple[str, str]]:
             ("clearance offset", L(r.clearance_m)), ("method", r.method)]
     rows.append(("path", path_words(s, units).split(": ", 1)[1]))
     run = s.run
-    why = stop_words(run, units) if run is not None and run.reason else r.reason
+    why = (stop_words(run, units) if run is not None and run.reason
+           else text_in_units(r.reason, units))
     rows.append(("why", why or "-"))
     extra = getattr(r, "extra_width_m", math.nan)
     if math.isfinite(extra):

@@ -15,6 +15,7 @@ from pathlib import Path
 import pandas as pd
 
 from reports.study import VERDICT_ORDER, Study
+from reports.units import to_output_units
 from reports.waivers import Waived
 
 __all__ = ["VERDICTS", "clearance_csv", "counts", "sha256_of", "summary", "summary_json",
@@ -23,14 +24,18 @@ __all__ = ["VERDICTS", "clearance_csv", "counts", "sha256_of", "summary", "summa
 VERDICTS = tuple(sorted(VERDICT_ORDER, key=VERDICT_ORDER.__getitem__))  # worst first
 
 
-def clearance_csv(study: Study, waived: Waived | None = None) -> str:
-    """``clearance.csv``: one row per network × vehicle × curve, lengths rounded to mm.
+def clearance_csv(study: Study, waived: Waived | None = None, units: str = "m") -> str:
+    """``clearance.csv``: one row per network × vehicle × curve, lengths in ``units``
+    rounded to three decimals (the millimetre in metres).
 
-    With ``waived`` (a report given ``--waivers``) a last column ``waived`` holds each
-    waived run's reason (empty for the others)."""
+    In feet the length columns are named ``*_ft`` and the lengths in the reasons are in
+    feet too (:func:`reports.units.to_output_units`). With ``waived`` (a report given
+    ``--waivers``) a last column ``waived`` holds each waived run's reason (empty for the
+    others), as its waiver file wrote it."""
     frame = study.frame()
     if waived is not None:
         frame["waived"] = waived_column(frame, waived)
+    frame = to_output_units(frame, units, suffix=True)
     for col in frame.columns:
         if frame[col].dtype.kind == "f":
             frame[col] = frame[col].round(3)

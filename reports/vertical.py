@@ -108,7 +108,7 @@ def vertical_words(r: object, units: str = "m") -> str:
     ...                  suspect_elevation=""))
     ''
     """
-    from reports.units import length_scale
+    from reports.units import length_scale, text_in_units
 
     k = length_scale(units)
     finding = str(getattr(r, "vertical", ""))
@@ -130,7 +130,7 @@ def vertical_words(r: object, units: str = "m") -> str:
             parts.append(f"{amount} {units} under the {part}")
     suspect = str(getattr(r, "suspect_elevation", ""))
     if suspect:
-        parts.append(f"suspect elevation: {suspect}")
+        parts.append(f"suspect elevation: {text_in_units(suspect, units)}")
     if finding in ("", "clear") and not suspect and not (part and math.isfinite(m)):
         return ""
     if finding in ("", "clear"):

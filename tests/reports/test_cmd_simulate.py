@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import csv
+import io
 import json
 import os
 import subprocess
@@ -12,10 +13,13 @@ import numpy as np
 import pytest
 
 from networks.samples import build as samples
+from networks.selection import Selection
 from reports import cmd_simulate
 from reports.cli import main
 from reports.file_names import file_name
-from vehicles.table import bundled_table
+from reports.study import run_study
+from reports.tables import clearance_csv
+from vehicles.table import bundled_table, load_tables
 
 pytest.importorskip("libsumo")
 
@@ -217,3 +221,47 @@ def test_a_run_that_crashes_sumo_fails_alone_and_the_others_are_driven():
             assert r.verdict == "error" and "worker process died" in r.reason
         else:
             assert r.error == "" and r.verdict in ("clear", "encroaches", "fails", "cannot-turn")
+
+
+#: Columns results.csv shares with clearance.csv: the verdicts, the path and the design
+#: feedback (reports.feedback), which the two commands must fill alike.
+SHARED = ("verdict", "margin_m", "paved_margin_m", "max_offtracking_m", "swept_width_m",
+          "lane_verdict", "lane_margin_m", "path", "encroaches_on", "reason", "serves_up_to",
+          "serves_encroaching_up_to", "overreach_station_m", "overreach_x", "overreach_y",
+          "extra_width_m")
+
+
+def test_results_carry_the_design_feedback_of_clearance_report(tmp_path):
+    vehicles = ["P", "CITY-BUS"]
+    out = tmp_path / "sim"
+    args = ["simulate", "-n", str(NET), "--junction", "T", "-o", str(out), "--workers", "1"]
+    for v in vehicles:
+        args += ["--vehicle", v]
+    assert main(args) == 0
+    sim = _results(out)
+    assert set(SHARED) <= set(cmd_simulate.RESULT_COLUMNS)
+    study = run_study([NET], load_tables(None, vehicles), workers=1,
+                      selection=Selection(junctions=("T",)))
+    report = {(r["vehicle"], r["curve_id"]): r
+              for r in csv.DictReader(io.StringIO(clearance_csv(study)))}
+    assert sim.keys() == report.keys() and len(sim) == 8
+    for key, r in report.items():
+        for c in SHARED:
+            a, b = sim[key][c], r[c]
+            if c.endswith("_m") or c in ("overreach_x", "overreach_y"):
+                assert (a == "") == (b == ""), (key, c, a, b)
+                if a:
+                    assert float(a) == pytest.approx(float(b), abs=1e-9), (key, c)
+            else:
+                assert a == b, (key, c, a, b)
+    # the feedback is there to compare: every run not clear has its worst overreach (said
+    # in its reason too), the clear ones none; the T serves up to the bus staying paved
+    for r in sim.values():
+        has = bool(r["extra_width_m"])
+        assert has == (r["verdict"] in ("fails", "encroaches")), r
+        assert ("more width there" in r["reason"]) == has
+        if has:
+            assert float(r["extra_width_m"]) > 0
+            assert float(r["overreach_station_m"]) >= 0
+    assert {r["serves_encroaching_up_to"] for r in sim.values()} >= {"CITY-BUS"}
+    assert any(r["verdict"] == "fails" for r in sim.values())

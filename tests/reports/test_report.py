@@ -340,6 +340,10 @@ def test_analytic_method_and_feet(tmp_path):
         got = list(csv.DictReader(fh))
     assert {r["method"] for r in got} == {"analytic"}
     assert "Margins in feet" in (out / "report.md").read_text()
+    # one unit system: the lengths of the columns and of the reasons in feet
+    assert "margin_ft" in got[0] and "margin_m" not in got[0]
+    assert all(" ft" in r["reason"] for r in got)
+    assert not [r["reason"] for r in got if re.search(r"\d m(?![\w/²])", r["reason"])]
 
 
 def test_a_real_osm_network_with_a_projection(tmp_path):
