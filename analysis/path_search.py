@@ -90,7 +90,7 @@ from analysis.path_shapes import (
 from analysis.polyline import Path
 from vehicles.errors import InputError
 
-__all__ = ["BETTER_BY_M", "Candidate", "ENCROACHED", "FITTED_MIN_M", "MIN_FOLD",
+__all__ = ["BETTER_BY_M", "Candidate", "ENCROACHED", "FITTED_MIN_M", "JOG_MAX_DEG", "MIN_FOLD",
            "REVERSE_RADIUS_M", "ROOM_SAMPLES", "SwingSearch", "TIERS", "candidates",
            "decisive_margin", "encroaches_on", "outside_room_m", "outside_rooms_m",
            "outside_sign", "rank", "swing_reason", "tier"]
@@ -105,6 +105,11 @@ FITTED_MIN_M = 0.25
 
 REVERSE_RADIUS_M = 50.0
 """A feature that turns against its turn tighter than this somewhere is not one corner."""
+
+JOG_MAX_DEG = 30.0
+"""A feature that turns by no more than this overall is a *jog* (it turns and turns back,
+as a lane drawn with a sideways step through a junction does): its inside shapes are the
+corner cuts, which smooth the step into one S-curve (degrees)."""
 
 MIN_FOLD = 0.2
 """A candidate is left out where ``1 - kappa d`` (the offset's stretch) falls to this."""
@@ -430,16 +435,25 @@ def candidates(path: Path, feature_m: tuple[float, float], turn_angle_deg: float
         out.append(Candidate(float(a0), float(cut), d, p, window, smap, shape, float(a1)))
     if search.shaped and inside_room_m > search.min_amplitude_m:
         k_in = path.curvature_1_m[(s >= feature_m[0]) & (s <= feature_m[1])]
-        corner = (abs(turn_angle_deg) <= 150.0 and not len(k_in) == 0
-                  and float(np.max(side * k_in)) < 1.0 / REVERSE_RADIUS_M)
-        out += (_corner_cuts if corner else _apex_bumps)(path, feature_m, side, search,
-                                                         inside_room_m, reach_m)
+        jog = abs(turn_angle_deg) <= JOG_MAX_DEG
+        corner = jog or (abs(turn_angle_deg) <= 150.0 and not len(k_in) == 0
+                         and float(np.max(side * k_in)) < 1.0 / REVERSE_RADIUS_M)
+        if corner:
+            out += _corner_cuts(path, feature_m, side, search, inside_room_m, reach_m, jog)
+        else:
+            out += _apex_bumps(path, feature_m, side, search, inside_room_m, reach_m)
     return out
 
 
 def _corner_cuts(path: Path, feature_m: tuple[float, float], side: float, search: SwingSearch,
-                 inside_room_m: float, reach_m: float | None) -> list[Candidate]:
-    """The *inside* candidates of one corner: :func:`corner_cut` 2, 4, 8, 16 m out."""
+                 inside_room_m: float, reach_m: float | None,
+                 jog: bool = False) -> list[Candidate]:
+    """The *inside* candidates of one corner: :func:`corner_cut` 2, 4, 8, 16 m out.
+
+    A *jog* (:data:`JOG_MAX_DEG`) is cut the same way, into one S-curve from the approach
+    to the exit; its cut lies on both sides of the line, so its depth is the largest
+    offset either way and the room inside does not bound it (the judge does).
+    """
     out = []
     s = path.station_m
     for k in range(1, search.steps + 1):
@@ -451,8 +465,9 @@ def _corner_cuts(path: Path, feature_m: tuple[float, float], side: float, search
                                         name=f"{path.name} (corner cut {lead:g} m)")
         ls = lane.station_m
         inner = (ls >= feat[0]) & (ls <= feat[1])
-        depth = float(np.max(-side * d[inner])) if inner.any() else 0.0
-        if p is lane or depth <= search.min_amplitude_m or depth > inside_room_m:
+        cut = np.abs(d[inner]) if jog else -side * d[inner]
+        depth = float(np.max(cut)) if inner.any() else 0.0
+        if p is lane or depth <= search.min_amplitude_m or (depth > inside_room_m and not jog):
             continue
         out.append(Candidate(0.0, 0.0, d, p, window, smap, "inside", 0.0, round(depth, 3)))
     return out

@@ -372,9 +372,13 @@ class BatchPlan:
             if e not in near:
                 members.add(self.edge_piece(e, False) or "")
         edges = self.net.edges
+        junctions_of_net = self.net.junctions
         for a, b in zip(plain, plain[1:], strict=False):
-            if edges[a].to_junction not in junctions:
+            through = edges[a].to_junction
+            if through not in junctions:
                 members.add(self.movement_piece(a, b) or "")
+                if through in junctions_of_net:  # a junction of the lead-in or run-out: paved
+                    members.add("J:" + through)
         members.update("L:" + k for k in extra)  # lanes of the curve nothing above covers
         members.discard("")
         return members
