@@ -109,7 +109,7 @@ REVERSE_RADIUS_M = 50.0
 JOG_MAX_DEG = 30.0
 """A feature that turns by no more than this overall is a *jog* (it turns and turns back,
 as a lane drawn with a sideways step through a junction does): its inside shapes are the
-corner cuts, which smooth the step into one S-curve (degrees)."""
+corner cuts, which smooth the step into one S-curve, as well as the apex bumps (degrees)."""
 
 MIN_FOLD = 0.2
 """A candidate is left out where ``1 - kappa d`` (the offset's stretch) falls to this."""
@@ -145,7 +145,7 @@ class SwingSearch:
     Examples
     --------
     >>> SwingSearch().count, SwingSearch().amplitudes_m(3.0)
-    (20, (0.75, 1.5, 2.25, 3.0))
+    (24, (0.75, 1.5, 2.25, 3.0))
     >>> SwingSearch().amplitudes_m(0.05), SwingSearch().amplitudes_m(float("inf"))[-1]
     ((0.15,), 6.0)
     >>> SwingSearch(steps=0)
@@ -176,8 +176,10 @@ class SwingSearch:
 
     @property
     def count(self) -> int:
-        """Candidates per run (at most; folding ones are left out)."""
-        return self.steps * (len(self.apex_cuts) + (2 if self.shaped else 0))
+        """Candidates per run (at most; folding ones are left out): ``steps`` of each held
+        cut, and where shaped of the fitted and the inside shapes, and of the apex bumps a
+        jog (:data:`JOG_MAX_DEG`) gets beside its corner cuts."""
+        return self.steps * (len(self.apex_cuts) + (3 if self.shaped else 0))
 
     def amplitudes_m(self, room_m: float) -> tuple[float, ...]:
         """The amplitudes searched for an outward room of ``room_m``, smallest first."""
@@ -440,7 +442,7 @@ def candidates(path: Path, feature_m: tuple[float, float], turn_angle_deg: float
                          and float(np.max(side * k_in)) < 1.0 / REVERSE_RADIUS_M)
         if corner:
             out += _corner_cuts(path, feature_m, side, search, inside_room_m, reach_m, jog)
-        else:
+        if not corner or jog:  # a jog may also be driven as its step, eased inward
             out += _apex_bumps(path, feature_m, side, search, inside_room_m, reach_m)
     return out
 
@@ -452,17 +454,29 @@ def _corner_cuts(path: Path, feature_m: tuple[float, float], side: float, search
 
     A *jog* (:data:`JOG_MAX_DEG`) is cut the same way, into one S-curve from the approach
     to the exit; its cut lies on both sides of the line, so its depth is the largest
-    offset either way and the room inside does not bound it (the judge does).
+    offset either way and the room inside does not bound it (the judge does). Its two
+    shortest cuts are replaced by one-sided ones: from 2 m before the feature to 16 m
+    after it, and from 16 m before it to 2 m after it (a car leaves a one-lane street and
+    steps across in the wide road after it, or steps across on the wide approach and goes
+    straight on into the narrow exit).
     """
     out = []
     s = path.station_m
-    for k in range(1, search.steps + 1):
-        lead = search.inside_step_m * 2.0 ** (k - 1)
-        lane, keep = _kept(path, feature_m[0] - lead, feature_m[1] + lead, reach_m)
+    leads = [search.inside_step_m * 2.0 ** (k - 1) for k in range(1, search.steps + 1)]
+    pairs = [(t, t) for t in leads]
+    if jog and search.steps > 2:
+        pairs = [(leads[-1], leads[0]), (leads[0], leads[-1]), *pairs[2:]]
+    for before, after in pairs:
+        lane, keep = _kept(path, feature_m[0] - before, feature_m[1] + after, reach_m)
         base = float(s[keep][0])
+        # corner_cut leaves the line ``lead`` before and after its window: this window
+        # makes that ``before`` ahead of the feature and ``after`` past it
+        lead = 0.5 * (before + after)
         feat = (feature_m[0] - base, feature_m[1] - base)
-        p, d, smap, window = corner_cut(lane, feat, lead,
-                                        name=f"{path.name} (corner cut {lead:g} m)")
+        window_in = (feat[0] - before + lead, feat[1] + after - lead)
+        label = f"{lead:g} m" if before == after else f"{before:g} to {after:g} m"
+        p, d, smap, window = corner_cut(lane, window_in, lead,
+                                        name=f"{path.name} (corner cut {label})")
         ls = lane.station_m
         inner = (ls >= feat[0]) & (ls <= feat[1])
         cut = np.abs(d[inner]) if jog else -side * d[inner]

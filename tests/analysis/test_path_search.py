@@ -129,16 +129,22 @@ def test_a_jog_is_cut_into_one_s_curve_a_car_can_follow(car):
     assert max_curvature_1_m(path) > 1.5 * limit
     cs = candidates(path, feature, -0.5, room_m=6.0, rooms_m=(6.0, 6.0, 6.0),
                     inside_room_m=0.5)  # little room inside: a jog's cut is not bound by it
-    inside = [c for c in cs if c.shape == "inside"]
-    assert len(inside) >= 2 and len(cs) <= SwingSearch().count
-    s_curve = inside[-1]  # from 16 m before to 16 m after
+    assert len(cs) <= SwingSearch().count
+    cuts = {c.path.name.split("corner cut ")[1][:-1]: c for c in cs
+            if c.shape == "inside" and "corner cut" in c.path.name}
+    assert set(cuts) == {"16 to 2 m", "2 to 16 m", "8 m", "16 m"}
+    s_curve = cuts["16 m"]  # from 16 m before to 16 m after
     # an S from y 0 to y 4.8: it stays between the two straights and is gentle
     y = s_curve.path.xy[:, 1]
     assert y.min() > -0.05 and y.max() < 4.85
     assert max_curvature_1_m(s_curve.path) < 0.5 * limit
-    lane_run, *runs = simulate_batch([car], [path] + [c.path for c in inside])
+    # one-sided: on the approach's line up to 2 m before the step, across in 16 m after it
+    late = cuts["2 to 16 m"].path
+    assert np.abs(late.xy[late.xy[:, 0] < -3.05, 1]).max() < 1e-6  # 2 m before x -1
+    assert max_curvature_1_m(late) < limit
+    lane_run, *runs = simulate_batch([car], [path, s_curve.path, late])
     assert lane_run.cannot_turn
-    assert runs[-1].followed
+    assert all(r.followed for r in runs)
     # a real turn keeps its inside cuts within the room inside
     corner, feat = corner_path(3.0, smooth=False)
     assert all(c.inside_m <= 0.5 for c in candidates(
