@@ -107,9 +107,7 @@ REVERSE_RADIUS_M = 50.0
 """A feature that turns against its turn tighter than this somewhere is not one corner."""
 
 JOG_MAX_DEG = 30.0
-"""A feature that turns by no more than this overall is a *jog* (it turns and turns back,
-as a lane drawn with a sideways step through a junction does): its inside shapes are the
-corner cuts, which smooth the step into one S-curve, as well as the apex bumps (degrees)."""
+"""A feature turning no more than this overall is a *jog*, a sideways step (degrees)."""
 
 MIN_FOLD = 0.2
 """A candidate is left out where ``1 - kappa d`` (the offset's stretch) falls to this."""
@@ -176,9 +174,7 @@ class SwingSearch:
 
     @property
     def count(self) -> int:
-        """Candidates per run (at most; folding ones are left out): ``steps`` of each held
-        cut, and where shaped of the fitted and the inside shapes, and of the apex bumps a
-        jog (:data:`JOG_MAX_DEG`) gets beside its corner cuts."""
+        """Candidates per run (at most; folding ones left out; a jog's apex bumps too)."""
         return self.steps * (len(self.apex_cuts) + (3 if self.shaped else 0))
 
     def amplitudes_m(self, room_m: float) -> tuple[float, ...]:
@@ -448,18 +444,9 @@ def candidates(path: Path, feature_m: tuple[float, float], turn_angle_deg: float
 
 
 def _corner_cuts(path: Path, feature_m: tuple[float, float], side: float, search: SwingSearch,
-                 inside_room_m: float, reach_m: float | None,
-                 jog: bool = False) -> list[Candidate]:
-    """The *inside* candidates of one corner: :func:`corner_cut` 2, 4, 8, 16 m out.
-
-    A *jog* (:data:`JOG_MAX_DEG`) is cut the same way, into one S-curve from the approach
-    to the exit; its cut lies on both sides of the line, so its depth is the largest
-    offset either way and the room inside does not bound it (the judge does). Its two
-    shortest cuts are replaced by one-sided ones: from 2 m before the feature to 16 m
-    after it, and from 16 m before it to 2 m after it (a car leaves a one-lane street and
-    steps across in the wide road after it, or steps across on the wide approach and goes
-    straight on into the narrow exit).
-    """
+                 inside_room_m: float, reach_m: float | None, jog: bool = False) -> list[Candidate]:
+    """The *inside* candidates of one corner: :func:`corner_cut` 2, 4, 8, 16 m out; a jog's
+    (docs/design.md §6) two shortest one-sided (2 m before to 16 m after, and the reverse)."""
     out = []
     s = path.station_m
     leads = [search.inside_step_m * 2.0 ** (k - 1) for k in range(1, search.steps + 1)]
@@ -469,9 +456,7 @@ def _corner_cuts(path: Path, feature_m: tuple[float, float], side: float, search
     for before, after in pairs:
         lane, keep = _kept(path, feature_m[0] - before, feature_m[1] + after, reach_m)
         base = float(s[keep][0])
-        # corner_cut leaves the line ``lead`` before and after its window: this window
-        # makes that ``before`` ahead of the feature and ``after`` past it
-        lead = 0.5 * (before + after)
+        lead = 0.5 * (before + after)  # window_in: ``before`` ahead, ``after`` past it
         feat = (feature_m[0] - base, feature_m[1] - base)
         window_in = (feat[0] - before + lead, feat[1] + after - lead)
         label = f"{lead:g} m" if before == after else f"{before:g} to {after:g} m"
