@@ -23,12 +23,12 @@ Where the lead-in (or run-out) is shorter than half a ramp, the ramp ends (or st
 the feature instead, at most half way through it. The amplitudes are fitted to the run's
 room: ``room * k / steps`` for ``k = 1 .. steps`` (:meth:`SwingSearch.amplitudes_m`), the
 room being how far the centre line can move outward at the feature's start, middle and end
-before the body's side reaches the paved area's edge (:func:`outside_room_m`, at most
-6 m); the family is every amplitude with every cut of :attr:`SwingSearch.apex_cuts`: a
-bounded number of candidates per run (12 by default), in a fixed order (smallest swing
-first), so the search is deterministic. A candidate whose offset
-would fold the line over itself (``1 - kappa d <= 0.2`` anywhere, ``kappa`` the centre
-line's curvature) is left out.
+before the body's side reaches the paved area's edge
+(:func:`analysis.swing_room.outside_room_m`, at most 6 m); the family is every amplitude
+with every cut of :attr:`SwingSearch.apex_cuts`: a bounded number of candidates per run
+(12 by default), in a fixed order (smallest swing first), so the search is deterministic.
+A candidate whose offset would fold the line over itself (``1 - kappa d <= 0.2``
+anywhere, ``kappa`` the centre line's curvature) is left out.
 
 Two more shapes fit the room where it differs along the turn (:attr:`SwingSearch.shaped`):
 
@@ -76,9 +76,7 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
-import shapely
 from numpy.typing import NDArray
-from shapely.geometry.base import BaseGeometry
 
 from analysis.clearance import Clearance
 from analysis.path_shapes import (
@@ -91,12 +89,12 @@ from analysis.path_shapes import (
     shaped_profile,
 )
 from analysis.polyline import Path
+from analysis.swing_room import outside_sign
 from vehicles.errors import InputError
 
-__all__ = ["BETTER_BY_M", "Candidate", "ENCROACHED", "FITTED_MIN_M", "MIN_FOLD",
-           "REVERSE_RADIUS_M", "ROOM_SAMPLES", "SwingSearch", "TIERS", "candidates",
-           "decisive_margin", "encroaches_on", "outside_room_m", "outside_rooms_m",
-           "outside_sign", "rank", "swing_reason", "tier"]
+__all__ = ["BETTER_BY_M", "Candidate", "ENCROACHED", "FITTED_MIN_M", "JOG_MAX_DEG", "MIN_FOLD",
+           "REVERSE_RADIUS_M", "SwingSearch", "TIERS", "candidates",
+           "decisive_margin", "encroaches_on", "rank", "swing_reason", "tier"]
 
 FloatArray = NDArray[np.float64]
 
@@ -108,6 +106,9 @@ FITTED_MIN_M = 0.25
 
 REVERSE_RADIUS_M = 50.0
 """A feature that turns against its turn tighter than this somewhere is not one corner."""
+
+JOG_MAX_DEG = 30.0
+"""A feature turning no more than this overall is a *jog*, a sideways step (degrees)."""
 
 MIN_FOLD = 0.2
 """A candidate is left out where ``1 - kappa d`` (the offset's stretch) falls to this."""
@@ -127,7 +128,8 @@ class SwingSearch:
     ----------
     steps
         Amplitudes per run: ``room * k / steps`` for ``k = 1 .. steps``, ``room`` the
-        outward room of the run (:func:`outside_room_m`, at most ``max_amplitude_m``).
+        outward room of the run (:func:`analysis.swing_room.outside_room_m`, at most
+        ``max_amplitude_m``).
     max_amplitude_m, min_amplitude_m
         The widest swing searched; the narrowest (where the room is smaller, only this).
     apex_cuts
@@ -143,7 +145,7 @@ class SwingSearch:
     Examples
     --------
     >>> SwingSearch().count, SwingSearch().amplitudes_m(3.0)
-    (20, (0.75, 1.5, 2.25, 3.0))
+    (24, (0.75, 1.5, 2.25, 3.0))
     >>> SwingSearch().amplitudes_m(0.05), SwingSearch().amplitudes_m(float("inf"))[-1]
     ((0.15,), 6.0)
     >>> SwingSearch(steps=0)
@@ -179,8 +181,8 @@ class SwingSearch:
 
     @property
     def count(self) -> int:
-        """Candidates per run (at most; folding ones are left out)."""
-        return self.steps * (len(self.apex_cuts) + (2 if self.shaped else 0))
+        """Candidates per run (at most; folding ones left out; a jog's apex bumps too)."""
+        return self.steps * (len(self.apex_cuts) + (3 if self.shaped else 0))
 
     def amplitudes_m(self, room_m: float) -> tuple[float, ...]:
         """The amplitudes searched for an outward room of ``room_m``, smallest first."""
@@ -259,100 +261,6 @@ class Candidate:
                       if self.apex_cut > 0 else " from the lane centre line")
 
 
-def outside_sign(turn_angle_deg: float) -> float:
-    """The sign of an offset toward the outside of a turn (left positive offsets).
-
-    Examples
-    --------
-    >>> outside_sign(90.0), outside_sign(-35.0), outside_sign(0.0)
-    (-1.0, 1.0, 0.0)
-    """
-    return 0.0 if turn_angle_deg == 0 else math.copysign(1.0, -turn_angle_deg)
-
-
-def outside_room_m(path: Path, feature_m: tuple[float, float], side: float,
-                   paved: BaseGeometry, half_width_m: float, reach_m: float = 12.0) -> float:
-    """How far the centre line may move outward and keep the body's side on the pavement.
-
-    The smallest of :func:`outside_rooms_m` (the feature's start, middle and end), and
-    at least 0.
-
-    Examples
-    --------
-    A lane along y = 0 paved from y = -1.5 to y = 5.1; a 2 m wide car may move left 4.1 m:
-
-    >>> from analysis.polyline import prepare_path
-    >>> p = prepare_path([(0.0, 0.0), (40.0, 0.0)])
-    >>> paved = shapely.box(-5.0, -1.5, 45.0, 5.1)
-    >>> round(outside_room_m(p, (15.0, 25.0), 1.0, paved, 1.0), 6)
-    4.1
-    >>> round(outside_room_m(p, (15.0, 25.0), -1.0, paved, 1.0), 6)
-    0.5
-    """
-    return max(0.0, min(outside_rooms_m(path, feature_m, side, paved, half_width_m, reach_m)))
-
-
-#: Where the room at a feature's end is also looked for: ``(metres beyond the end, the
-#: share of the swing a ramp of 8 m still has there)`` (a half cosine, 1 at the end).
-ROOM_SAMPLES = ((0.0, 1.0), (2.0, 0.854), (4.0, 0.5), (6.0, 0.146))
-
-
-def outside_rooms_m(path: Path, feature_m: tuple[float, float], side: float,
-                    paved: BaseGeometry, half_width_m: float, reach_m: float = 12.0
-                    ) -> tuple[float, float, float]:
-    """How far the centre line may move toward ``side`` at the feature's start, middle and
-    end: the distance along the normal to the paved area's edge less ``half_width_m``
-    (``-half_width_m`` where a point is off the pavement; ``reach_m - half_width_m`` where
-    the pavement goes on further).
-
-    The room at the start (end) is the smallest over :data:`ROOM_SAMPLES`: at the
-    feature's start and 2, 4 and 6 m before it, each divided by the share of the swing a
-    ramp still has there, so that a lane that narrows just before (after) the feature, as
-    where a junction's pavement gives way to a one-lane street, bounds the swing too.
-
-    Examples
-    --------
-    A lane along y = 0 paved to y = 5.1 up to x = 22 and to y = 1.5 beyond; a swing may
-    be 4.1 m wide at the feature's start (x = 15) but only 0.5 m at its end (x = 25):
-
-    >>> from analysis.polyline import prepare_path
-    >>> p = prepare_path([(0.0, 0.0), (40.0, 0.0)])
-    >>> paved = shapely.union(shapely.box(-5.0, -1.5, 22.0, 5.1), shapely.box(19, -1.5, 45, 1.5))
-    >>> [round(r, 6) for r in outside_rooms_m(p, (15.0, 25.0), 1.0, paved, 1.0)]
-    [4.1, 4.1, 0.5]
-
-    The same lane with its feature ending at x = 20: the lane narrows 2 m after it, where
-    the ramp down still has 85 % of the swing, so the room at the end is 0.5 / 0.854:
-
-    >>> [round(r, 3) for r in outside_rooms_m(p, (10.0, 20.0), 1.0, paved, 1.0)]
-    [4.1, 4.1, 0.585]
-    """
-    cs, ce = feature_m
-    ahead = [(cs - x, w) for x, w in ROOM_SAMPLES]
-    after = [(ce + x, w) for x, w in ROOM_SAMPLES]
-    where = [*ahead, (0.5 * (cs + ce), 1.0), *after]
-    s = np.clip(np.array([x for x, _ in where]), 0.0, path.length_m)
-    share = np.array([w for _, w in where])
-    xy = path.point_at(s)
-    h = path.heading_at(s)
-    n = side * np.stack([-np.sin(h), np.cos(h)], axis=1)
-    rays = shapely.linestrings(np.stack([xy, xy + reach_m * n], axis=1))
-    start = shapely.points(xy)
-    edge = shapely.boundary(paved)
-    room = []
-    covered = np.asarray(shapely.covers(paved, start), dtype=bool)
-    for ray, p0, inside in zip(np.asarray(rays, dtype=object), np.asarray(start, dtype=object),
-                               covered, strict=True):
-        if not inside:
-            room.append(0.0)
-            continue
-        hit = shapely.intersection(ray, edge)
-        room.append(float(shapely.distance(p0, hit)) if not hit.is_empty else reach_m)
-    free = (np.array(room) - half_width_m) / share
-    k = len(ahead)
-    return float(free[:k].min()), float(free[k]), float(free[k + 1:].min())
-
-
 def candidates(path: Path, feature_m: tuple[float, float], turn_angle_deg: float,
                search: SwingSearch | None = None, room_m: float = math.inf,
                reach_m: float | None = None,
@@ -366,8 +274,9 @@ def candidates(path: Path, feature_m: tuple[float, float], turn_angle_deg: float
     ramp in to ``reach_m`` after its ramp out (a vehicle's length and a little more: all a
     judged sample's body can cover), so that it is driven no further than it is judged.
     With ``rooms_m`` (the outward room at the feature's start, middle and end,
-    :func:`outside_rooms_m`) and :attr:`SwingSearch.shaped`, the *fitted* shapes follow;
-    with ``inside_room_m`` (the room toward the inside at the middle) the *inside* ones.
+    :func:`analysis.swing_room.outside_rooms_m`) and :attr:`SwingSearch.shaped`, the
+    *fitted* shapes follow; with ``inside_room_m`` (the room toward the inside at the
+    middle) the *inside* ones.
 
     Examples
     --------
@@ -447,32 +356,45 @@ def candidates(path: Path, feature_m: tuple[float, float], turn_angle_deg: float
                              step=k))
     if search.shaped and inside_room_m > search.min_amplitude_m:
         k_in = path.curvature_1_m[(s >= feature_m[0]) & (s <= feature_m[1])]
-        corner = (abs(turn_angle_deg) <= 150.0 and not len(k_in) == 0
-                  and float(np.max(side * k_in)) < 1.0 / REVERSE_RADIUS_M)
-        out += (_corner_cuts if corner else _apex_bumps)(path, feature_m, side, search,
-                                                         inside_room_m, reach_m, step)
+        jog = abs(turn_angle_deg) <= JOG_MAX_DEG
+        corner = jog or (abs(turn_angle_deg) <= 150.0 and not len(k_in) == 0
+                         and float(np.max(side * k_in)) < 1.0 / REVERSE_RADIUS_M)
+        if corner:
+            out += _corner_cuts(path, feature_m, side, search, inside_room_m, reach_m, jog,
+                                step)
+        if not corner or jog:  # a jog may also be driven as its step, eased inward
+            out += _apex_bumps(path, feature_m, side, search, inside_room_m, reach_m, step)
     return out
 
 
 def _corner_cuts(path: Path, feature_m: tuple[float, float], side: float, search: SwingSearch,
-                 inside_room_m: float, reach_m: float | None, step: int | None = None
-                 ) -> list[Candidate]:
-    """The *inside* candidates of one corner: :func:`corner_cut` 2, 4, 8, 16 m out."""
+                 inside_room_m: float, reach_m: float | None, jog: bool = False,
+                 step: int | None = None) -> list[Candidate]:
+    """The *inside* candidates of one corner: :func:`corner_cut` 2, 4, 8, 16 m out; a jog's
+    (docs/design.md §6) two shortest one-sided (2 m before to 16 m after, and the reverse);
+    with ``step``, the ``step``-th only."""
     out = []
     s = path.station_m
-    for k in range(1, search.steps + 1):
+    leads = [search.inside_step_m * 2.0 ** (k - 1) for k in range(1, search.steps + 1)]
+    pairs = [(t, t) for t in leads]
+    if jog and search.steps > 2:
+        pairs = [(leads[-1], leads[0]), (leads[0], leads[-1]), *pairs[2:]]
+    for k, (before, after) in enumerate(pairs, start=1):
         if step is not None and k != step:
             continue
-        lead = search.inside_step_m * 2.0 ** (k - 1)
-        lane, keep = _kept(path, feature_m[0] - lead, feature_m[1] + lead, reach_m)
+        lane, keep = _kept(path, feature_m[0] - before, feature_m[1] + after, reach_m)
         base = float(s[keep][0])
+        lead = 0.5 * (before + after)  # window_in: ``before`` ahead, ``after`` past it
         feat = (feature_m[0] - base, feature_m[1] - base)
-        p, d, smap, window = corner_cut(lane, feat, lead,
-                                        name=f"{path.name} (corner cut {lead:g} m)")
+        window_in = (feat[0] - before + lead, feat[1] + after - lead)
+        label = f"{lead:g} m" if before == after else f"{before:g} to {after:g} m"
+        p, d, smap, window = corner_cut(lane, window_in, lead,
+                                        name=f"{path.name} (corner cut {label})")
         ls = lane.station_m
         inner = (ls >= feat[0]) & (ls <= feat[1])
-        depth = float(np.max(-side * d[inner])) if inner.any() else 0.0
-        if p is lane or depth <= search.min_amplitude_m or depth > inside_room_m:
+        cut = np.abs(d[inner]) if jog else -side * d[inner]
+        depth = float(np.max(cut)) if inner.any() else 0.0
+        if p is lane or depth <= search.min_amplitude_m or (depth > inside_room_m and not jog):
             continue
         out.append(Candidate(0.0, 0.0, d, p, window, smap, "inside", 0.0, round(depth, 3),
                              step=k))

@@ -246,7 +246,7 @@ class BatchPlan:
         if near is None:
             near = self._near_edges(junctions)
         to_junction = self.index.to_junction
-        if near.issuperset(plain) and (
+        if not self._passed(curve, junctions) and near.issuperset(plain) and (
             to_junction[plain[0]] in junctions if len(plain) == 2
             else all(to_junction[a] in junctions for a in plain[:-1])
         ):
@@ -339,17 +339,27 @@ class BatchPlan:
             if not k.startswith(":") and lanes[k].edge not in near and lanes[k].edge not in plain
         )
         edges = net.edges
-        if not extra and all(e in near for e in plain) and all(
+        passed = self._passed(curve, junctions)
+        if not extra and not passed and all(e in near for e in plain) and all(
             edges[a].to_junction in junctions for a in plain[:-1]
         ):
             key: tuple = (junctions,)  # its junctions' areas cover it all (the usual case)
         else:
-            key = (junctions, plain, extra)
+            key = (junctions, plain, extra, passed)
         group = self._paved_of.get(key)
         if group is None:
-            members = frozenset(self._paved_members(junctions, near, plain, extra))
+            found = self._paved_members(junctions, near, plain, extra)
+            found.update("J:" + j for j in passed)
+            members = frozenset(found)
             group = self._paved_of[key] = _number(members, self._paved_ids, self.paved_groups)
         return group
+
+    def _passed(self, curve: AreaCurve, junctions: tuple[str, ...]) -> tuple[str, ...]:
+        """The junctions the curve's lead-in or run-out drives through (those of its
+        internal lanes that are not its feature's): their polygons are pavement too."""
+        at = self.index.junction_at
+        out = [at.get(k) for k in curve.lanes if k.startswith(":")]
+        return tuple(j for j in dict.fromkeys(out) if j is not None and j not in junctions)
 
     def _near_edges(self, junctions: tuple[str, ...]) -> frozenset[str]:
         edges: set[str] = set()
@@ -372,9 +382,13 @@ class BatchPlan:
             if e not in near:
                 members.add(self.edge_piece(e, False) or "")
         edges = self.net.edges
+        junctions_of_net = self.net.junctions
         for a, b in zip(plain, plain[1:], strict=False):
-            if edges[a].to_junction not in junctions:
+            through = edges[a].to_junction
+            if through not in junctions:
                 members.add(self.movement_piece(a, b) or "")
+                if through in junctions_of_net:  # a junction of the lead-in or run-out: paved
+                    members.add("J:" + through)
         members.update("L:" + k for k in extra)  # lanes of the curve nothing above covers
         members.discard("")
         return members

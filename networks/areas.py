@@ -267,11 +267,22 @@ def _fill_small_holes(geom, min_hole_m2: float | None = None):
     100.0
     >>> _fill_small_holes(shapely.box(0, 0, 10, 10).difference(shapely.box(2, 2, 8, 8))).area
     64.0
+
+    A union can leave a zero-length line beside its polygons (GEOS did, on tavf_hamburg);
+    an area has none, so lines and points are dropped:
+
+    >>> odd = shapely.GeometryCollection([shapely.box(0, 0, 1, 1),
+    ...                                   shapely.LineString([(5, 5), (5, 5 + 1e-13)])])
+    >>> _fill_small_holes(odd).wkt
+    'POLYGON ((1 0, 1 1, 0 1, 0 0, 1 0))'
     """
     limit = MIN_HOLE_M2 if min_hole_m2 is None else min_hole_m2
     parts = []
     changed = False
     for poly in shapely.get_parts(geom):
+        if not isinstance(poly, shapely.Polygon):  # a sliver line or point of a union
+            changed = True
+            continue
         holes = [r for r in poly.interiors if shapely.Polygon(r).area >= limit]
         if len(holes) != len(poly.interiors):
             changed = True
@@ -279,6 +290,8 @@ def _fill_small_holes(geom, min_hole_m2: float | None = None):
         parts.append(poly)
     if not changed:
         return geom
+    if not parts:
+        return shapely.Polygon()
     return parts[0] if len(parts) == 1 else shapely.MultiPolygon(parts)
 
 

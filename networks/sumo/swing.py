@@ -44,13 +44,12 @@ from analysis.path_search import (
     Candidate,
     SwingSearch,
     candidates,
-    outside_rooms_m,
-    outside_sign,
     rank,
     swing_reason,
     tier,
 )
 from analysis.polyline import Path
+from analysis.swing_room import outside_rooms_m, outside_sign
 from analysis.tracking import TrackingRun, TrackingSettings, simulate_batch
 from networks.sumo.runs import DrivenRun, DriveOptions, DriveStats
 from vehicles.errors import InputError

@@ -112,3 +112,41 @@ def test_fitted_swing_follows_the_room_at_each_end():
     # equal rooms: no fitted shape (it would be a held one)
     same = candidates(path, feature, -90.0, room_m=2.0, rooms_m=(2.0, 6.0, 2.1))
     assert not [c for c in same if c.shape == "fitted"]
+
+
+def test_a_jog_is_cut_into_one_s_curve_a_car_can_follow(car):
+    # a straight road drawn with a 4.8 m sideways step over 5 m (netconvert's motorway
+    # junction 1658939360 of the wheel's tools/game/highway, where two edges spread their
+    # lanes differently): it turns by 0 degrees overall, through two 3 m kinks P cannot
+    # hold; cut from 8 and 16 m before the step to as far after it, it is one S-curve
+    # from the approach to the exit that P follows
+    from analysis.polyline import prepare_path
+
+    xy = np.array([(-30.0, 0.0), (0.0, 0.0), (0.3, 4.8), (30.3, 4.8)])
+    path = prepare_path(xy)
+    feature = (29.0, 35.5)
+    limit = math.sin(car.max_steer_rad) / car.wheelbase_m
+    assert max_curvature_1_m(path) > 1.5 * limit
+    cs = candidates(path, feature, -0.5, room_m=6.0, rooms_m=(6.0, 6.0, 6.0),
+                    inside_room_m=0.5)  # little room inside: a jog's cut is not bound by it
+    assert len(cs) <= SwingSearch().count
+    cuts = {c.path.name.split("corner cut ")[1][:-1]: c for c in cs
+            if c.shape == "inside" and "corner cut" in c.path.name}
+    assert set(cuts) == {"16 to 2 m", "2 to 16 m", "8 m", "16 m"}
+    s_curve = cuts["16 m"]  # from 16 m before to 16 m after
+    # an S from y 0 to y 4.8: it stays between the two straights and is gentle
+    y = s_curve.path.xy[:, 1]
+    assert y.min() > -0.05 and y.max() < 4.85
+    assert max_curvature_1_m(s_curve.path) < 0.5 * limit
+    # one-sided: on the approach's line up to 2 m before the step, across in 16 m after it
+    late = cuts["2 to 16 m"].path
+    assert np.abs(late.xy[late.xy[:, 0] < -3.05, 1]).max() < 1e-6  # 2 m before x -1
+    assert max_curvature_1_m(late) < limit
+    lane_run, *runs = simulate_batch([car], [path, s_curve.path, late])
+    assert lane_run.cannot_turn
+    assert all(r.followed for r in runs)
+    # a real turn keeps its inside cuts within the room inside
+    corner, feat = corner_path(3.0, smooth=False)
+    assert all(c.inside_m <= 0.5 for c in candidates(
+        corner, feat, -90.0, room_m=0.3, rooms_m=(0.3, 6.0, 0.3), inside_room_m=0.5)
+        if c.shape == "inside")

@@ -255,3 +255,28 @@ def test_a10kw_u_turns_onto_the_other_carriageway_are_uturns():
     sharp = [c for c in extract_curves(net, ("turn",), areas=False)
              if abs(c.turn_angle_deg) > 120]
     assert sharp, "A10KW has sharp turns that are not U-turns"
+
+
+@pytest.mark.parametrize("name, pair, least", [
+    # two junctions 0.2 m apart (edge -311298685): a turn at one drives its lead-in or
+    # run-out through the other
+    ("wildau.net.xml.gz", ("891707410", "33585741"), 4),
+    # the lead-in of a turn at gneJ135 starts on a 53 m internal lane of cluster4
+    ("tavf_hamburg.net.xml.gz", ("gneJ135", "cluster4"), 1),
+])
+def test_paved_area_holds_the_junctions_of_the_lead_in_and_run_out(name, pair, least):
+    # the polygon of a junction the run drives through is pavement; it was left out, and
+    # the car at the curve's start "left the paved area" there
+    from networks.areas import junction_polygons
+    from networks.paths import junction_of_internal
+
+    net = read_network(_realnet(name))
+    curves = [c for c in extract_curves(net, ["turn"]) if c.curve_id.split(":")[1] in pair]
+    through = [c for c in curves
+               if set(pair) <= {junction_of_internal(k) for k in c.lanes if k.startswith(":")}]
+    assert len(through) >= least
+    for c in through:
+        for j in sorted({junction_of_internal(k) for k in c.lanes if k.startswith(":")}):
+            polygon = junction_polygons(net, [j])[0]
+            beyond = shapely.difference(polygon, shapely.buffer(c.paved, 0.01))
+            assert beyond.area < 1e-4, (c.curve_id, j, beyond.area)
