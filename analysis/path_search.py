@@ -82,9 +82,9 @@ from analysis.clearance import Clearance
 from analysis.path_shapes import (
     apex_bump,
     corner_cut,
-    moved,
-    offset_path,
+    kept_part,
     offset_profile,
+    offset_run,
     ramp_bounds,
     shaped_profile,
 )
@@ -216,8 +216,10 @@ class Candidate:
         The offset path's station at each of those points.
     shape
         ``held`` (the amplitude over the whole feature), ``fitted`` (``amplitude_m`` at the
-        feature's start, ``exit_m`` at its end) or ``inside`` (cutting the corner, at most
-        ``inside_m`` inside the centre line within the feature; ``amplitude_m`` 0).
+        feature's start, ``exit_m`` at its end), ``inside`` (cutting the corner, at most
+        ``inside_m`` inside the centre line within the feature; ``amplitude_m`` 0) or
+        ``refined`` (:mod:`analysis.path_refine`: ``amplitude_m`` at the feature's start,
+        ``apex_m`` at its apex, ``exit_m`` at its end; negative toward the inside).
     step
         Its size in its shape's family: ``k`` of ``k = 1 .. steps`` (the round it is
         tried in, :func:`networks.sumo.swing.swing_pass`).
@@ -233,6 +235,7 @@ class Candidate:
     exit_m: float = 0.0
     inside_m: float = 0.0
     step: int = 1
+    apex_m: float = 0.0
 
     @property
     def how(self) -> str:
@@ -249,7 +252,22 @@ class Candidate:
         'swings 3.50 m out before the turn and 0.50 m after it'
         >>> Candidate(0.0, 0.0, z, p, (0.0, 1.0), z, "inside", inside_m=1.25).how
         'cuts the corner 1.25 m inside the lane centre line, on a wider radius'
+        >>> print(Candidate(1.0, 0.0, z, p, (0.0, 1.0), z, "refined", -0.3, apex_m=0.6).how)
+        ... # doctest: +NORMALIZE_WHITESPACE
+        takes its own line: 1.00 m out at the turn's start, 0.60 m out at its apex,
+        0.30 m in at its end
+        >>> print(Candidate(0.0, 0.0, z, p, (0.0, 1.0), z, "refined", 0.0, apex_m=-0.7).how)
+        ... # doctest: +NORMALIZE_WHITESPACE
+        takes its own line: on the centre line at the turn's start, 0.70 m in at its apex,
+        on the centre line at its end
         """
+        if self.shape == "refined":
+            def side(x: float) -> str:
+                if abs(x) < 0.005:
+                    return "on the centre line"
+                return f"{abs(x):.2f} m {'in' if x < 0 else 'out'}"
+            return (f"takes its own line: {side(self.amplitude_m)} at the turn's start, "
+                    f"{side(self.apex_m)} at its apex, {side(self.exit_m)} at its end")
         if self.shape == "inside":
             return (f"cuts the corner {self.inside_m:.2f} m inside the lane centre line, "
                     "on a wider radius")
@@ -342,7 +360,7 @@ def candidates(path: Path, feature_m: tuple[float, float], turn_angle_deg: float
             continue
         a, _, _, _ = ramp_bounds(path.length_m, feature_m, ramp_in)
         _, _, _, e = ramp_bounds(path.length_m, feature_m, ramp_out)
-        lane, keep = _kept(path, a, e, reach_m)
+        lane, keep = kept_part(path, a, e, reach_m)
         if shape == "held":
             d = side * offset_profile(s, feature_m, a0, ramp_in, cut)[keep]
         else:
@@ -350,7 +368,7 @@ def candidates(path: Path, feature_m: tuple[float, float], turn_angle_deg: float
         if np.min(1.0 - lane.curvature_1_m * d) <= MIN_FOLD:
             continue
         label = f"swung {a0:g} m, cut {cut:g}" if shape == "held" else f"swung {a0:g} to {a1:g} m"
-        p, window, smap = _offset_run(path, lane, keep, d, (a, e), feature_m,
+        p, window, smap = offset_run(path, lane, keep, d, (a, e), feature_m,
                                       f"{path.name} ({label})")
         out.append(Candidate(float(a0), float(cut), d, p, window, smap, shape, float(a1),
                              step=k))
@@ -382,7 +400,7 @@ def _corner_cuts(path: Path, feature_m: tuple[float, float], side: float, search
     for k, (before, after) in enumerate(pairs, start=1):
         if step is not None and k != step:
             continue
-        lane, keep = _kept(path, feature_m[0] - before, feature_m[1] + after, reach_m)
+        lane, keep = kept_part(path, feature_m[0] - before, feature_m[1] + after, reach_m)
         base = float(s[keep][0])
         lead = 0.5 * (before + after)  # window_in: ``before`` ahead, ``after`` past it
         feat = (feature_m[0] - base, feature_m[1] - base)
@@ -414,48 +432,14 @@ def _apex_bumps(path: Path, feature_m: tuple[float, float], side: float, search:
         depth = round(top * k / search.steps, 3)
         ramp = search.ramp_m(depth)
         a, _, _, e = ramp_bounds(path.length_m, feature_m, ramp)
-        lane, keep = _kept(path, a, e, reach_m)
+        lane, keep = kept_part(path, a, e, reach_m)
         d = -side * apex_bump(s, feature_m, depth, ramp)[keep]
         if np.min(1.0 - lane.curvature_1_m * d) <= MIN_FOLD:
             continue
-        p, window, smap = _offset_run(path, lane, keep, d, (a, e), feature_m,
+        p, window, smap = offset_run(path, lane, keep, d, (a, e), feature_m,
                                       f"{path.name} (cut {depth:g} m inside)")
         out.append(Candidate(0.0, 0.0, d, p, window, smap, "inside", 0.0, depth, step=k))
     return out
-
-
-def _offset_run(path: Path, lane: Path, keep: slice, d: np.ndarray,
-                span_m: tuple[float, float], feature_m: tuple[float, float], name: str
-                ) -> tuple[Path, tuple[float, float], np.ndarray]:
-    """The path ``lane`` (``path``'s stations ``keep``) offset by ``d``; the judged window
-    on it (the manoeuvre ``span_m`` and the feature, on the offset line's stations); and
-    the offset line's stations at the lane's points (the station map)."""
-    p = offset_path(lane, d, name=name)
-    smap = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(moved(lane, d), axis=0).T))])
-    ls, s0 = lane.station_m, path.station_m[keep][0]
-    window = (float(np.interp(min(span_m[0], feature_m[0]) - s0, ls, smap)),
-              float(np.interp(max(span_m[1], feature_m[1]) - s0, ls, smap)))
-    return p, window, smap
-
-
-def _kept(path: Path, a: float, e: float, reach_m: float | None) -> tuple[Path, slice]:
-    """The part of ``path`` from ``reach_m`` before ``a`` to ``reach_m`` after ``e`` (all
-    of it without ``reach_m``), and the slice of its points."""
-    if reach_m is None:
-        return path, slice(None)
-    s = path.station_m
-    i0 = int(np.searchsorted(s, a - reach_m, side="right")) - 1
-    i1 = int(np.searchsorted(s, e + reach_m, side="left")) + 1
-    keep = slice(max(i0, 0), min(i1, len(s)))
-    return _sub_path(path, keep), keep
-
-
-def _sub_path(path: Path, keep: slice) -> Path:
-    """The part ``keep`` of a path, its stations from 0."""
-    st = path.station_m[keep] - path.station_m[keep][0]
-    return Path(path.name, path.xy[keep], None if path.z is None else path.z[keep], st,
-                path.heading_rad[keep], path.curvature_1_m[keep], path.spacing_m,
-                float(st[-1]))
 
 
 def tier(clearance: Clearance | None) -> int:

@@ -19,8 +19,8 @@ from numpy.typing import NDArray
 from analysis.polyline import Path, prepare_path
 from vehicles.errors import InputError
 
-__all__ = ["apex_bump", "corner_cut", "max_curvature_1_m", "moved", "nearest_on", "offset_path",
-           "offset_profile", "ramp_bounds", "shaped_profile"]
+__all__ = ["apex_bump", "corner_cut", "kept_part", "max_curvature_1_m", "moved", "nearest_on",
+           "offset_path", "offset_profile", "offset_run", "ramp_bounds", "shaped_profile"]
 
 FloatArray = NDArray[np.float64]
 
@@ -320,3 +320,60 @@ def max_curvature_1_m(path: Path) -> float:
     0.125
     """
     return float(np.max(np.abs(path.curvature_1_m))) if len(path.xy) else 0.0
+
+
+def offset_run(path: Path, lane: Path, keep: slice, d: FloatArray,
+               span_m: tuple[float, float], feature_m: tuple[float, float], name: str
+               ) -> tuple[Path, tuple[float, float], FloatArray]:
+    """A swung path ready to drive: ``lane`` (the points ``keep`` of ``path``) moved by
+    ``d``; the judged window on it (the manoeuvre ``span_m`` and the feature, both in
+    ``path``'s stations, on the offset line's stations); and the offset line's station at
+    each of the lane's points (the station map).
+
+    Examples
+    --------
+    A straight line moved 1 m left: the window keeps its stations.
+
+    >>> p = prepare_path([(0.0, 0.0), (20.0, 0.0)], spacing_m=1.0)
+    >>> q, window, smap = offset_run(p, p, slice(None), np.ones(21), (4.0, 16.0),
+    ...                              (8.0, 12.0), "moved")
+    >>> float(q.xy[0, 1]), window, float(smap[-1])
+    (1.0, (4.0, 16.0), 20.0)
+
+    A zero offset is the lane itself:
+
+    >>> offset_run(p, p, slice(None), np.zeros(21), (4.0, 16.0), (8.0, 12.0), "x")[1]
+    (4.0, 16.0)
+    """
+    p = offset_path(lane, d, name=name)
+    smap = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(moved(lane, d), axis=0).T))])
+    ls, s0 = lane.station_m, path.station_m[keep][0]
+    window = (float(np.interp(min(span_m[0], feature_m[0]) - s0, ls, smap)),
+              float(np.interp(max(span_m[1], feature_m[1]) - s0, ls, smap)))
+    return p, window, smap
+
+
+def kept_part(path: Path, a: float, e: float, reach_m: float | None) -> tuple[Path, slice]:
+    """The part of ``path`` from ``reach_m`` before station ``a`` to ``reach_m`` after
+    ``e`` (all of it without ``reach_m``), its stations from 0, and the slice of its points.
+
+    Examples
+    --------
+    >>> p = prepare_path([(0.0, 0.0), (60.0, 0.0)], spacing_m=1.0)
+    >>> part, keep = kept_part(p, 20.0, 30.0, 5.0)
+    >>> keep, float(part.xy[0, 0]), part.length_m
+    (slice(15, 36, None), 15.0, 20.0)
+    >>> kept_part(p, 20.0, 30.0, None)[1]
+    slice(None, None, None)
+    """
+    if reach_m is None:
+        return path, slice(None)
+    s = path.station_m
+    i0 = int(np.searchsorted(s, a - reach_m, side="right")) - 1
+    i1 = int(np.searchsorted(s, e + reach_m, side="left")) + 1
+    keep = slice(max(i0, 0), min(i1, len(s)))
+    st = path.station_m[keep] - path.station_m[keep][0]
+    part = Path(path.name, path.xy[keep], None if path.z is None else path.z[keep], st,
+                path.heading_rad[keep], path.curvature_1_m[keep], path.spacing_m,
+                float(st[-1]))
+    return part, keep

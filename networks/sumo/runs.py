@@ -131,6 +131,9 @@ class DriveStats:
         The search of swung paths (:mod:`networks.sumo.swing`), model and verdicts.
     swing_candidates, swing_judged
         Swung paths driven, and of those judged (envelope and verdict).
+    refine_runs, refine_candidates, refine_s, refine_cpu_s
+        Of those, the refinement's (:mod:`analysis.path_refine`): the runs it searched,
+        the paths it drove, and its time.
     model_cpu_s, sumo_cpu_s
         The same by the process's CPU time (steadier on a shared machine).
     """
@@ -146,6 +149,10 @@ class DriveStats:
     swing_cpu_s: float = 0.0
     swing_candidates: int = 0
     swing_judged: int = 0
+    refine_runs: int = 0
+    refine_candidates: int = 0
+    refine_s: float = 0.0
+    refine_cpu_s: float = 0.0
 
 
 @dataclass

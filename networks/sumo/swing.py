@@ -34,16 +34,27 @@ import dataclasses
 import logging
 import math
 import time
+from collections.abc import Callable
 
+import numpy as np
 import shapely
 
 from analysis.clearance import Areas, RunResult, evaluate
 from analysis.feature import feature_mask, feature_reason
+from analysis.path_refine import (
+    Knots,
+    RefineSearch,
+    compass_moves,
+    lattice_knots,
+    refined_candidate,
+    seed_knots,
+)
 from analysis.path_search import (
     TIERS,
     Candidate,
     SwingSearch,
     candidates,
+    decisive_margin,
     rank,
     swing_reason,
     tier,
@@ -130,6 +141,7 @@ def swing_pass(
     options: DriveOptions,
     stats: DriveStats | None = None,
     search: SwingSearch | None = None,
+    refine: RefineSearch | None = None,
 ) -> int:
     """Search swung paths for the runs of ``out`` that are not clear; returns how many
     runs took one. Each run's ``lane_result`` is set (its lane result), and ``result``,
@@ -144,18 +156,23 @@ def swing_pass(
     tried: dict[int, list[tuple[Candidate, RunResult | None]]] = {id(d): [] for d in runs}
     count = 0
 
-    def drive_all(todo: list[tuple[DrivenRun, Candidate]]) -> None:
-        """Drive the candidates and judge those the follower could drive."""
+    def drive_all(todo: list[tuple[DrivenRun, Candidate]]) -> list[tuple[float, ...]]:
+        """Drive the candidates and judge those the follower could drive; the order key of
+        each (:func:`_key`)."""
         nonlocal count
         count += len(todo)
+        keys: list[tuple[float, ...]] = []
         for lo in range(0, len(todo), options.batch_size):
             chunk = todo[lo:lo + options.batch_size]
             driven = simulate_batch([d.vehicle for d, _ in chunk], [c.path for _, c in chunk],
                                     settings)
             for (d, cand), run in zip(chunk, driven, strict=True):
+                res = None
                 if not feature_reason(run, feature_mask(run, cand.window_m)):
-                    tried[id(d)].append((cand, _judged(d, cand, run, areas[d.curve.curve_id],
-                                                       options.offset_m)))
+                    res = _judged(d, cand, run, areas[d.curve.curve_id], options.offset_m)
+                    tried[id(d)].append((cand, res))
+                keys.append(_key(res, run.max_error_m))
+        return keys
 
     def lane_of(d: DrivenRun) -> RunResult:
         assert d.result is not None  # needs_swing: only runs with a result
@@ -180,13 +197,111 @@ def swing_pass(
              and lane_of(d).verdict == "cannot-turn"
              for x in _family(d, measured[id(d)], search, None, math.inf)]
     drive_all(wider)
-    taken = sum(_choose(d, lane_of(d), tried[id(d)], search) for d in runs)
+    # a run still off the pavement by a little, or that no candidate could drive: refined
+    refine = refine or RefineSearch()
+    before, t1, c1 = count, time.perf_counter(), time.process_time()
+    refined = _refine([d for d in runs if id(d) in measured], measured, tried, lane_of,
+                      drive_all, refine)
+    taken = sum(_choose(d, lane_of(d), tried[id(d)], search, refine) for d in runs)
     if stats is not None:
+        stats.refine_runs += refined
+        stats.refine_candidates += count - before
+        stats.refine_s += time.perf_counter() - t1
+        stats.refine_cpu_s += time.process_time() - c1
         stats.swing_judged += sum(1 for j in tried.values() for _, r in j if r is not None)
         stats.swing_s += time.perf_counter() - t0
         stats.swing_cpu_s += time.process_time() - c0
         stats.swing_candidates += count
     return taken
+
+
+def _key(result: RunResult | None, error_m: float) -> tuple[float, ...]:
+    """The order of candidates in the refinement: that of :func:`rank` (the tier, then the
+    decisive margin); among those the follower could not drive, the least lateral error."""
+    if result is None:
+        return (0.0, -math.inf, -error_m)
+    return (float(tier(result.clearance)), decisive_margin(result.clearance), 0.0)
+
+
+def _better(key: tuple[float, ...], than: tuple[float, ...], by_m: float) -> bool:
+    """Whether a refinement's move is worth taking: a better tier, or a margin (or, among
+    paths that cannot be driven, a lateral error) better by more than ``by_m``."""
+    if key[0] != than[0]:
+        return key[0] > than[0]
+    if key[1] != than[1]:
+        return key[1] > than[1] + by_m
+    return key[2] > than[2] + by_m
+
+
+def _refine(runs: list[DrivenRun], measured: dict[int, _Run],
+            tried: dict[int, list[tuple[Candidate, RunResult | None]]],
+            lane_of: Callable[[DrivenRun], RunResult], drive_all: _Driver,
+            refine: RefineSearch) -> int:
+    """The search of :mod:`analysis.path_refine` for every run whose best path so far
+    leaves the pavement by at most :attr:`~analysis.path_refine.RefineSearch.max_loss_m`,
+    or cannot turn: the coarse lattice and the family's best held or fitted path as knots,
+    then a compass search from the best of them. All runs' candidates of a stage are driven
+    together. Returns how many runs were refined."""
+    firsts: list[tuple[DrivenRun, Candidate]] = []
+    knots: list[Knots] = []
+    for d in runs:
+        results = [lane_of(d).clearance] + [r.clearance if r else None for _, r in tried[id(d)]]
+        best = rank(results)
+        c = results[best]
+        if tier(c) > 1 or (c is not None and tier(c) == 1
+                           and c.paved_margin_m < -refine.max_loss_m):
+            continue
+        m = measured[id(d)]
+        seed = seed_knots(tried[id(d)][best - 1][0] if best else None, m.feature_m)
+        for k in dict.fromkeys([*lattice_knots(m.rooms_m, refine), seed]):
+            cand = refined_candidate(m.path, m.feature_m, m.turn_angle_deg, k, m.reach_m)
+            if cand is not None:
+                firsts.append((d, cand))
+                knots.append(k)
+    found: dict[int, list[tuple[tuple[float, ...], Knots]]] = {}
+    for (d, _), k, key in zip(firsts, knots, drive_all(firsts), strict=True):
+        found.setdefault(id(d), []).append((key, k))
+    starts = [(d, s) for d in runs for s in sorted(found.get(id(d), []), key=lambda x: x[0],
+                                                   reverse=True)[:refine.starts]]
+    _compass(starts, measured, drive_all, refine)
+    return len(found)
+
+
+_Driver = Callable[[list[tuple[DrivenRun, Candidate]]], list[tuple[float, ...]]]
+
+
+def _compass(starts: list[tuple[DrivenRun, tuple[tuple[float, ...], Knots]]],
+             measured: dict[int, _Run], drive_all: _Driver, refine: RefineSearch) -> None:
+    """A compass search from each of ``starts`` (a run, and knots with their order key); a
+    run's searches stop once one of them finds a path on the pavement."""
+    def candidate(d: DrivenRun, k: Knots) -> Candidate | None:
+        m = measured[id(d)]
+        return refined_candidate(m.path, m.feature_m, m.turn_angle_deg, k, m.reach_m)
+
+    state = [(d, k, np.array(refine.step.values()), key) for d, (key, k) in starts]
+    for _ in range(refine.rounds):
+        paved = {id(d) for d, _, _, key in state if key[0] >= 2}
+        active = [i for i, (d, _, _, _) in enumerate(state) if id(d) not in paved]
+        moves: list[tuple[DrivenRun, Candidate]] = []
+        which: list[tuple[int, Knots]] = []
+        for i in active:
+            d, knots, step, _ = state[i]
+            for k in compass_moves(knots, step, refine):
+                if (cand := candidate(d, k)) is not None:
+                    moves.append((d, cand))
+                    which.append((i, k))
+        if not moves:
+            break
+        best_move: dict[int, tuple[tuple[float, ...], Knots]] = {}
+        for (i, k), key in zip(which, drive_all(moves), strict=True):
+            if i not in best_move or key > best_move[i][0]:
+                best_move[i] = (key, k)
+        for i in active:
+            d, knots, step, key = state[i]
+            if i in best_move and _better(best_move[i][0], key, refine.min_gain_m):
+                state[i] = (d, best_move[i][1], step, best_move[i][0])
+            else:
+                state[i] = (d, knots, step / 2.0, key)
 
 
 def _near_steps(tried: list[tuple[Candidate, RunResult | None]], steps: int) -> list[int]:
@@ -201,7 +316,7 @@ def _near_steps(tried: list[tuple[Candidate, RunResult | None]], steps: int) -> 
 
 
 def _choose(d: DrivenRun, lane: RunResult, tried: list[tuple[Candidate, RunResult | None]],
-            search: SwingSearch) -> bool:
+            search: SwingSearch, refine: RefineSearch) -> bool:
     """Keep the best of the lane path and the tried candidates; whether a swung one won."""
     best = rank([lane.clearance] + [r.clearance if r is not None else None for _, r in tried])
     if best == 0:
@@ -209,8 +324,9 @@ def _choose(d: DrivenRun, lane: RunResult, tried: list[tuple[Candidate, RunResul
             d.result = dataclasses.replace(lane, clearance=dataclasses.replace(
                 lane.clearance, reason=f"{lane.clearance.reason}; nor can it swing wide: "
                 f"none of its swung paths (outward offsets up to "
-                f"{search.max_amplitude_m:g} m, as far as the pavement allows) is "
-                "within its lock and steering rate"))
+                f"{search.max_amplitude_m:g} m, as far as the pavement allows, and refined "
+                f"lines from {-refine.lower.start_m:g} m inside to {refine.upper.start_m:g} m "
+                "outside the lane centre line) is within its lock and steering rate"))
         return False
     cand, res = tried[best - 1]
     assert res is not None  # rank never picks a candidate that was not judged
@@ -222,9 +338,17 @@ def _choose(d: DrivenRun, lane: RunResult, tried: list[tuple[Candidate, RunResul
     d.result = dataclasses.replace(res, clearance=dataclasses.replace(res.clearance,
                                                                       reason=why))
     d.path = "swung"
-    d.swing_m = max(cand.amplitude_m, cand.exit_m) if cand.shape != "inside" else \
-        -cand.inside_m
+    d.swing_m = _swing_m(cand)
     return True
+
+
+def _swing_m(cand: Candidate) -> float:
+    """The largest outward offset of a swung path; where it never goes out, its deepest
+    inward one, negative (a corner cut's depth)."""
+    if cand.shape == "inside":
+        return -cand.inside_m
+    offsets = (cand.amplitude_m, cand.apex_m, cand.exit_m)
+    return max(offsets) if max(offsets) > 0 else min(offsets)
 
 
 def _judged(d: DrivenRun, cand: Candidate, run: TrackingRun, areas: Areas,

@@ -82,9 +82,9 @@ def test_the_path_kept_reaches_least_into_the_opposing_lanes(tmp_path, netconver
     seen = []
     choose = swing._choose
 
-    def spy(d, lane, tried, search):
+    def spy(d, lane, tried, search, refine):
         seen.append(list(tried))
-        return choose(d, lane, tried, search)
+        return choose(d, lane, tried, search, refine)
 
     monkeypatch.setattr(swing, "_choose", spy)
     net, c = _turn(tmp_path, netconvert, "two_way_least", 3.0, 1, 1, 3.2)
@@ -99,3 +99,46 @@ def test_the_path_kept_reaches_least_into_the_opposing_lanes(tmp_path, netconver
     rounds = [cand.step for cand, res in tried]
     first = min(cand.step for cand, res in tried if res is not None and tier(res.clearance) >= 2)
     assert max(rounds) == first
+
+
+def test_bus_between_two_lane_roads_takes_a_refined_line_to_stay_paved(tmp_path, netconvert,
+                                                                      table, monkeypatch):
+    """A city bus turning right at a 3 m corner between two-lane one-way roads (3.5 m
+    lanes): none of the family's shapes keeps it on the pavement; the refined line does,
+    within the refinement's bounds, out over the second lane and the junction's corner
+    (paved, beyond its roadway: ``opposing lanes`` in the tool's three words)."""
+    import networks.sumo.swing as swing
+    from analysis.path_refine import RefineSearch
+    from networks.sumo.runs import DriveStats
+
+    net, c = _turn(tmp_path, netconvert, "bus_two_lanes", 3.0, 2, 0, 3.5)
+    bus = table.vehicle("CITY-BUS")
+    stats = DriveStats()
+    r = drive(net, [(bus, c)], options=DriveOptions(use_sumo=False), stats=stats)[0]
+    assert (r.verdict, r.path, r.encroaches_on) == ("encroaches", "swung", "opposing lanes")
+    assert r.result.clearance.paved_margin_m >= 0
+    assert r.reason.startswith("takes its own line:")
+    assert r.swing_m > 2.0  # out over the second lane
+    assert stats.refine_runs == 1
+    assert 0 < stats.refine_candidates <= RefineSearch().count
+    again = drive(net, [(bus, c)], options=DriveOptions(use_sumo=False))[0]
+    assert (again.reason, again.result.clearance.margin_m) == (r.reason,
+                                                               r.result.clearance.margin_m)
+    # the family of shapes alone leaves the pavement
+    monkeypatch.setattr(swing, "_refine", lambda *args: 0)
+    family = drive(net, [(bus, c)], options=DriveOptions(use_sumo=False))[0]
+    assert family.verdict == "fails"
+    assert family.result.clearance.paved_margin_m < -0.1
+
+
+def test_the_refinement_is_not_tried_far_off_the_pavement(tmp_path, netconvert, table):
+    """The bus on one-lane roads leaves the pavement by metres whatever line it takes: the
+    refinement is for near misses and leaves such a run alone."""
+    from networks.sumo.runs import DriveStats
+
+    net, c = _turn(tmp_path, netconvert, "bus_one_lane", 3.0, 1, 0, 3.2)
+    stats = DriveStats()
+    r = drive(net, [(table.vehicle("CITY-BUS"), c)], options=DriveOptions(use_sumo=False),
+              stats=stats)[0]
+    assert r.verdict == "fails" and r.result.clearance.paved_margin_m < -1.0
+    assert (stats.refine_runs, stats.refine_candidates) == (0, 0)
