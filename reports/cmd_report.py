@@ -28,20 +28,14 @@ from networks.curves import Curve
 from networks.samples.build import SAMPLES, SAMPLES_DIR
 from reports.atomic import write_bytes_atomic, write_text_atomic
 from reports.batch import bare, with_areas, worker_network
-from reports.document import (
-    COMPACT_MADE,
-    build_sections,
-    compact_key,
-    compact_png,
-    html_document,
-    markdown,
-)
+from reports.document import build_sections, html_document, markdown
 from reports.executor import Executor, SharedFile, make_executor
 from reports.export_geojson import lonlat_transformer, parse_origin
 from reports.exports import EnvelopeRecord, conflict_parts
 from reports.feedback import overreach_point
 from reports.figures import CurveFigure, draw_curve_figure, scratch_files, worst_by_curve
 from reports.file_names import file_name
+from reports.html_images import COMPACT_MADE, compact_key, compact_png
 from reports.options import (
     add_clearance_option,
     add_executor_options,
@@ -275,7 +269,7 @@ def network_sheets_pdf(task: NetworkTask, shared: SharedFile) -> dict[str, bytes
 
 
 #: The name under which a task's files carry the compact copy of a PNG for the HTML
-#: (:func:`reports.document.compact_png`): this prefix and the copy's key.
+#: (:func:`reports.html_images.compact_png`): this prefix and the copy's key.
 COMPACT = "compact:"
 
 

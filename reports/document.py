@@ -9,10 +9,8 @@ beside it (SVG versions are there too).
 
 from __future__ import annotations
 
-import base64
 import hashlib
 import html
-import io
 import math
 import re
 from collections.abc import Callable
@@ -31,6 +29,7 @@ from reports.feedback import (
 )
 from reports.figures import COLOURS, plot_curve, plot_network, worst_by_curve
 from reports.file_names import file_name
+from reports.html_images import img_tag
 from reports.profile_figure import VerticalEntry, vertical_entries
 from reports.records import RunRecord
 from reports.study import VERDICT_ORDER, NetworkCurves, Study
@@ -39,10 +38,9 @@ from reports.units import length_scale, text_in_units
 from reports.vertical import vertical_words
 from reports.waivers import Waived
 
-__all__ = ["COMPACT_MADE", "CSS", "CurveEntry", "HTML_IMAGE_COLOURS", "HTML_IMAGE_WIDTH_PX",
-           "MATRIX_VEHICLES", "MAX_CURVE_FIGURES", "MAX_ENVELOPES", "SYMBOL",
-           "Section", "TIGHT_M", "anchor", "build_sections", "compact_key", "compact_png",
-           "html_document", "margin_words", "markdown", "pick_envelopes", "run_words"]
+__all__ = ["CSS", "CurveEntry", "MATRIX_VEHICLES", "MAX_CURVE_FIGURES", "MAX_ENVELOPES",
+           "SYMBOL", "Section", "TIGHT_M", "anchor", "build_sections", "html_document",
+           "margin_words", "markdown", "pick_envelopes", "run_words"]
 
 #: A curve is *tight* when its smallest margin is below this (m) though clear.
 TIGHT_M = 0.25
@@ -400,55 +398,6 @@ a{color:inherit;text-decoration:none}
 #: Matrix columns (vehicles) per table: wider matrices are split into several tables, each
 #: with the curve names, so that each fits a screen and a printed page.
 MATRIX_VEHICLES = 12
-#: Figures in report.html: at most this wide (pixels) and quantised to this many colours.
-HTML_IMAGE_WIDTH_PX = 600
-HTML_IMAGE_COLOURS = 24
-
-
-#: Compact copies already made (by a worker that drew the figure, which has the PNG at
-#: hand), by :func:`compact_key`: :func:`compact_png` of the same bytes returns them.
-COMPACT_MADE: dict[str, bytes] = {}
-
-
-def compact_key(data: bytes, width_px: int = HTML_IMAGE_WIDTH_PX,
-                colours: int = HTML_IMAGE_COLOURS) -> str:
-    """The key of a full PNG's compact copy in :data:`COMPACT_MADE`: its SHA-256 and the
-    size asked for.
-
-    >>> compact_key(b"")[-7:]
-    '-600-24'
-    """
-    return f"{hashlib.sha256(data).hexdigest()}-{width_px}-{colours}"
-
-
-def compact_png(png: Path, width_px: int = HTML_IMAGE_WIDTH_PX,
-                colours: int = HTML_IMAGE_COLOURS) -> bytes:
-    """A figure made small for the HTML: scaled down to ``width_px`` and quantised to a
-    palette of ``colours`` (PNG, with Pillow, which matplotlib requires).
-
-    The full-resolution PNG and the SVG stay in ``figures/``.
-    """
-    from PIL import Image
-
-    data = Path(png).read_bytes()
-    made = COMPACT_MADE.get(compact_key(data, width_px, colours))
-    if made is not None:
-        return made
-    with Image.open(io.BytesIO(data)) as opened:
-        im = opened.convert("RGB")
-        if im.width > width_px:
-            im = im.resize((width_px, round(im.height * width_px / im.width)),
-                           Image.Resampling.LANCZOS)
-        im = im.quantize(colours, method=Image.Quantize.MEDIANCUT, dither=Image.Dither.NONE)
-        buf = io.BytesIO()
-        im.save(buf, "PNG", optimize=True)
-        return buf.getvalue()
-
-
-def _img(png: Path, alt: str, lazy: bool = True) -> str:
-    data = base64.b64encode(compact_png(png)).decode("ascii")
-    loading = ' loading="lazy"' if lazy else ""
-    return f'<img alt="{html.escape(alt)}"{loading} src="data:image/png;base64,{data}">'
 
 
 def anchor(network: str, curve_id: str | None = None) -> str:
@@ -524,7 +473,7 @@ def _vertical_html(s: Section, units: str) -> list[str]:
                        for r in v.runs)
         head = f"<h4><code>{e(v.curve_id)}</code> (vertical)</h4>"
         if v.figure is not None:
-            out.append(f"{head}<figure>{_img(v.figure, v.curve_id + ' profile')}"
+            out.append(f"{head}<figure>{img_tag(v.figure, v.curve_id + ' profile')}"
                        f"<figcaption><ul>{runs}</ul></figcaption></figure>")
         else:
             out.append(f"{head}<ul>{runs}</ul>")
@@ -572,7 +521,7 @@ def html_document(study: Study, sections: list[Section], units: str = "m",
         out.append("<table><tr>" + "".join(f"<th>{e(k)}</th>" for k in s.counts)
                    + "</tr><tr>" + "".join(f"<td>{v}</td>" for v in s.counts.values())
                    + "</tr></table>")
-        out.append(f"<figure>{_img(s.plan, 'plan of ' + s.name, lazy=False)}<figcaption>Plan "
+        out.append(f"<figure>{img_tag(s.plan, 'plan of ' + s.name, lazy=False)}<figcaption>Plan "
                    f"of {e(s.name)}: each curve coloured by its worst verdict; the worst "
                    "curves numbered as in the list below.</figcaption></figure>")
         items = []
@@ -619,7 +568,7 @@ def html_document(study: Study, sections: list[Section], units: str = "m",
             if c.serves:
                 head += f'<p class="serves">{e(c.serves)}</p>'
             if c.figure is not None:
-                out.append(f"{head}<figure>{_img(c.figure, c.curve_id)}<figcaption>"
+                out.append(f"{head}<figure>{img_tag(c.figure, c.curve_id)}<figcaption>"
                            f"<code>{e(c.curve_id)}</code>, every vehicle worst first (the "
                            f"figure draws {counted(len(c.drawn), 'envelope')}):"
                            f"<ul>{runs}</ul></figcaption></figure>")
