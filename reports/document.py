@@ -63,6 +63,8 @@ class CurveEntry:
     drawn: list[str]  # the vehicles the figure shows
     #: What the curve serves, in words (:func:`reports.feedback.serves_sentence`).
     serves: str = ""
+    #: Why the curve has no figure though it was to have one (its drawing was lost).
+    missing: str = ""
 
 
 @dataclass
@@ -75,10 +77,9 @@ class Section:
     worst: pd.DataFrame
     matrix: pd.DataFrame  # rows curve_id, columns vehicles: "verdict|margin"
     all_clear: int
-    curve_figures: list[tuple[str, Path, str]] = field(default_factory=list)
     omitted: int = 0
     #: Every failing or tight curve in matrix order: curve id, its figure (None beyond
-    #: :data:`MAX_CURVE_FIGURES`), every run on it worst first, the vehicles drawn.
+    #: :data:`MAX_CURVE_FIGURES` or when lost), every run worst first, the vehicles drawn.
     curves: list[CurveEntry] = field(default_factory=list)
     #: Vehicles, curves and runs of the network.
     n_vehicles: int = 0
@@ -94,6 +95,8 @@ class Section:
     #: Swung runs on the curves without a section of their own (they clear with room to
     #: spare, but only by swinging wide): said in words under the matrix.
     swung: list = field(default_factory=list)
+    #: Outputs of the network that were not drawn (their drawing was lost), in words.
+    lost: list[str] = field(default_factory=list)
 
 
 def build_sections(study: Study, folder: Path, units: str = "m",
@@ -158,9 +161,6 @@ def build_sections(study: Study, folder: Path, units: str = "m",
             stem = figs / file_name([nc.name, "curve", cid], room=4)
             png = (plot_curve(nc, by_id[cid], shown, stem, table=study.table, units=units)[0]
                    if draw is None else draw(nc, by_id[cid], shown, stem))
-            caption = ", ".join(f"{r.vehicle} {r.verdict} ({r.margin_m / scale:+.2f} {units})"
-                                for r in shown)
-            section.curve_figures.append((cid, png, caption))
             section.curves.append(CurveEntry(cid, png, recs, [r.vehicle for r in shown],
                                              serves_text(recs)))
         for cid in [c for c in worst.curve_id if c in bad][len(picked):]:
@@ -248,6 +248,7 @@ def markdown(study: Study, sections: list[Section], folder: Path, units: str = "
                   "| " + " | ".join(s.counts) + " |", "|" + "---|" * len(s.counts),
                   "| " + " | ".join(str(v) for v in s.counts.values()) + " |", "",
                   f"![plan of {s.name}]({_rel(s.plan, folder)})", ""]
+        lines += [x for t in s.lost for x in (t, "")]
         if s.serves:
             lines += serves_markdown(s.serves, _md_cell)
         worst = []
@@ -287,14 +288,15 @@ def markdown(study: Study, sections: list[Section], folder: Path, units: str = "
                       for cid, v, verdict, m, reason, where in s.waived]
             lines.append("")
         for c in s.curves:
-            if c.figure is None:
+            if c.figure is None and not c.missing:
                 continue
             lines += [f"### `{c.curve_id}`", ""]
             if c.serves:
                 lines += [c.serves, ""]
-            lines += [f"![{c.curve_id}]({_rel(c.figure, folder)})",
-                      "", f"Every vehicle, worst first (the figure draws "
-                      f"{counted(len(c.drawn), 'envelope')}):", ""]
+            lines += ([f"![{c.curve_id}]({_rel(c.figure, folder)})", "",
+                       f"Every vehicle, worst first (the figure draws "
+                       f"{counted(len(c.drawn), 'envelope')}):", ""] if c.figure is not None
+                      else [c.missing, "", "Every vehicle, worst first:", ""])
             lines += [f"- {_md_cell(run_words(r, units))}"
                       + (" (drawn)" if r.vehicle in c.drawn else "") for r in c.runs]
             lines.append("")
@@ -524,6 +526,7 @@ def html_document(study: Study, sections: list[Section], units: str = "m",
         out.append(f"<figure>{img_tag(s.plan, 'plan of ' + s.name, lazy=False)}<figcaption>Plan "
                    f"of {e(s.name)}: each curve coloured by its worst verdict; the worst "
                    "curves numbered as in the list below.</figcaption></figure>")
+        out += [f'<p class="lost">{e(t)}</p>' for t in s.lost]
         items = []
         for r in s.worst.head(8).itertuples():
             if r.verdict == "clear" and r.margin_m > TIGHT_M:
@@ -572,6 +575,9 @@ def html_document(study: Study, sections: list[Section], units: str = "m",
                            f"<code>{e(c.curve_id)}</code>, every vehicle worst first (the "
                            f"figure draws {counted(len(c.drawn), 'envelope')}):"
                            f"<ul>{runs}</ul></figcaption></figure>")
+            elif c.missing:
+                out.append(f"{head}<p>{e(c.missing)} Every vehicle worst first:</p>"
+                           f"<ul>{runs}</ul>")
             else:
                 out.append(f"{head}<p>No figure (beyond the first {MAX_CURVE_FIGURES} of "
                            f"the network); every vehicle worst first:</p><ul>{runs}</ul>")
