@@ -10,6 +10,8 @@ The study's executor stays open for the report: the curve figures, each network'
 and each network's exports are drawn in its workers (:class:`Drawings`), which send the
 files back as bytes, while this process draws the network plans and writes the tables;
 the files are the same whichever process draws them (``tests/reports/test_report.py``).
+A drawing whose worker dies is drawn again alone (:func:`reports.executor.run_isolated`);
+one that kills its worker even then is lost, and the report says so where it would be.
 """
 
 from __future__ import annotations
@@ -20,28 +22,23 @@ import tempfile
 import time
 from collections.abc import Callable
 from concurrent.futures import Future
+from concurrent.futures.process import BrokenProcessPool
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import Any, Literal
 
 from networks.curves import Curve
 from networks.samples.build import SAMPLES, SAMPLES_DIR
 from reports.atomic import write_bytes_atomic, write_text_atomic
 from reports.batch import bare, with_areas, worker_network
-from reports.document import (
-    COMPACT_MADE,
-    build_sections,
-    compact_key,
-    compact_png,
-    html_document,
-    markdown,
-)
-from reports.executor import Executor, SharedFile, make_executor
+from reports.document import Section, build_sections, html_document, markdown
+from reports.executor import Executor, SharedFile, WorkerLost, make_executor, run_isolated
 from reports.export_geojson import lonlat_transformer, parse_origin
 from reports.exports import EnvelopeRecord, conflict_parts
 from reports.feedback import overreach_point
 from reports.figures import CurveFigure, draw_curve_figure, scratch_files, worst_by_curve
 from reports.file_names import file_name
+from reports.html_images import COMPACT_MADE, compact_key, compact_png
 from reports.options import (
     add_clearance_option,
     add_executor_options,
@@ -63,10 +60,10 @@ from reports.text_table import counted
 from reports.waivers import Waived, read_waivers, study_waivers
 from vehicles.table import bundled_table_paths, load_tables
 
-__all__ = ["COMPACT", "DEFAULT_OUTPUT", "DRAWN_RUNS", "LAYOUT", "Drawings", "NetworkTask",
-           "add_parser", "curve_figure_files", "drawn_geometry", "envelope_records",
-           "export_names", "network_exports", "network_sheets_pdf", "run", "sample_networks",
-           "write_exports", "write_report"]
+__all__ = ["COMPACT", "DEFAULT_OUTPUT", "DRAWN_RUNS", "LAYOUT", "Drawing", "Drawings",
+           "NetworkTask", "add_parser", "curve_figure_files", "draw", "drawn_geometry",
+           "envelope_records", "export_names", "network_exports", "network_sheets_pdf", "run",
+           "sample_networks", "write_exports", "write_report"]
 
 log = logging.getLogger(__name__)
 
@@ -275,7 +272,7 @@ def network_sheets_pdf(task: NetworkTask, shared: SharedFile) -> dict[str, bytes
 
 
 #: The name under which a task's files carry the compact copy of a PNG for the HTML
-#: (:func:`reports.document.compact_png`): this prefix and the copy's key.
+#: (:func:`reports.html_images.compact_png`): this prefix and the copy's key.
 COMPACT = "compact:"
 
 
@@ -292,59 +289,145 @@ def curve_figure_files(task: CurveFigure, shared: SharedFile) -> dict[str, bytes
     return files
 
 
+@dataclass(frozen=True)
+class Drawing:
+    """One drawing task of a report: ``fn(task, shared)`` in a worker returns its files by
+    their paths relative to the report (:func:`draw`). ``part`` and ``what`` say what the
+    report lacks when it is lost: a curve's figure (``curve_id``), a network's sheets or
+    its exports."""
+
+    fn: Callable[[Any, SharedFile], dict[str, bytes]]
+    task: Any
+    network: str
+    part: Literal["figure", "sheets", "exports"]
+    what: str  # e.g. "sheets (sheets/NET.pdf)"
+    curve_id: str = ""
+
+
+def draw(drawing: Drawing, shared: SharedFile) -> dict[str, bytes]:
+    """Draw ``drawing`` in this process: its files by their paths relative to the report."""
+    return drawing.fn(drawing.task, shared)
+
+
+def _cannot_split(drawing: Drawing) -> tuple[Drawing, ...]:
+    return ()  # a drawing is one task: one that crashes its worker alone is lost
+
+
 class Drawings:
     """The figures, sheets and exports of a report drawn in the executor's workers.
 
-    Each task (:func:`reports.figures.draw_curve_figure`, :func:`network_sheets_pdf`,
-    :func:`network_exports`) returns its files as bytes; :meth:`finish` waits for them
-    and writes them under ``folder``."""
+    Each :class:`Drawing` is submitted as soon as it is known, so the workers draw while
+    the report's process builds the sections; :meth:`finish` waits for them and writes
+    their files under ``folder``. The drawings whose worker died (a crash, out of memory)
+    are drawn again through :func:`reports.executor.run_isolated`; one that kills its
+    worker even alone is lost: warned about, listed in :attr:`lost`, and said in the
+    documents by :meth:`mark_lost`."""
 
     def __init__(self, executor: Executor, folder: Path) -> None:
         self.executor, self.folder = executor, folder
-        self._pending: list[Future[dict[str, bytes]]] = []
+        self._pending: list[tuple[Drawing, str, Future[dict[str, bytes]] | None]] = []
         self._shared: dict[str, SharedFile] = {}
+        #: The drawings lost, with the reason.
+        self.lost: list[tuple[Drawing, str]] = []
 
-    def submit(self, fn: Callable[[Any, SharedFile], dict[str, bytes]], task: Any,
-               path: Path) -> None:
+    def submit(self, drawing: Drawing, path: Path) -> None:
+        """Start ``drawing`` in a worker, on its copy of the network at ``path``."""
         key = str(path)
         if key not in self._shared:
             self._shared[key] = self.executor.share(path)
-        self._pending.append(self.executor.submit(fn, task, self._shared[key]))
+        try:
+            future = self.executor.submit(draw, drawing, self._shared[key])
+        except BrokenProcessPool:  # a worker died: drawn again by finish
+            future = None
+        self._pending.append((drawing, key, future))
 
     def curve_figure(self, study: Study, units: str
                      ) -> Callable[[NetworkCurves, Curve, list[RunRecord], Path], Path]:
         """A ``draw`` for :func:`reports.document.build_sections`."""
-        def draw(nc: NetworkCurves, curve: Curve, records: list[RunRecord], stem: Path
-                 ) -> Path:
-            task = CurveFigure(nc.name, str(nc.path), bare(curve), tuple(records),
-                               stem.relative_to(self.folder).as_posix(), study.table, units)
-            self.submit(curve_figure_files, task, nc.path)
+        def draw_figure(nc: NetworkCurves, curve: Curve, records: list[RunRecord],
+                        stem: Path) -> Path:
+            rel = stem.relative_to(self.folder).as_posix()
+            task = CurveFigure(nc.name, str(nc.path), bare(curve), tuple(records), rel,
+                               study.table, units)
+            self.submit(Drawing(curve_figure_files, task, nc.name, "figure",
+                                f"figure of curve {curve.curve_id} ({rel}.png, .svg)",
+                                curve.curve_id), nc.path)
             return Path(f"{stem}.png")
-        return draw
+        return draw_figure
 
     def finish(self) -> None:
-        """Wait for every task and write its files."""
-        for future in self._pending:
-            for rel, data in future.result().items():
-                if rel.startswith(COMPACT):
-                    COMPACT_MADE[rel.removeprefix(COMPACT)] = data
-                else:
-                    write_bytes_atomic(self.folder / rel, data)
+        """Wait for every drawing and write its files; draw those whose worker died again
+        (:func:`reports.executor.run_isolated`), and give up those that kill it alone."""
+        again: dict[str, list[Drawing]] = {}
+        for drawing, key, future in self._pending:
+            try:
+                files = None if future is None else self.executor.outcome(future)
+            except WorkerLost as exc:
+                log.info("%s: %s: its worker died (%s); drawn again", drawing.network,
+                         drawing.what, exc)
+                files = None
+            if files is None:
+                again.setdefault(key, []).append(drawing)
+            else:
+                self._write(files)
         self._pending.clear()
+        for key, drawings in again.items():
+            for _, files in run_isolated(self.executor, draw, drawings, _cannot_split,
+                                         self._lose, self._shared[key]):
+                self._write(files)
+
+    def _write(self, files: dict[str, bytes]) -> None:
+        for rel, data in files.items():
+            if rel.startswith(COMPACT):
+                COMPACT_MADE[rel.removeprefix(COMPACT)] = data
+            else:
+                write_bytes_atomic(self.folder / rel, data)
+
+    def _lose(self, drawing: Drawing, reason: str) -> dict[str, bytes]:
+        self.lost.append((drawing, reason))
+        log.warning("%s: %s", drawing.network, _lost_words(drawing.what, reason))
+        return {}
+
+    def mark_lost(self, sections: list[Section], exports: dict[str, dict[str, str]]
+                  ) -> None:
+        """Say in ``sections`` what the lost drawings were to show: a lost figure's curve
+        says so in place of it, a network's lost sheets or exports in a line of the
+        network's part; the lost exports leave ``exports`` (the files report.html lists)."""
+        by_name = {s.name: s for s in sections}
+        for drawing, reason in self.lost:
+            section = by_name[drawing.network]
+            if drawing.part == "figure":
+                for c in section.curves:
+                    if c.curve_id == drawing.curve_id:
+                        c.figure, c.drawn = None, []
+                        c.missing = _lost_words("Figure", reason)
+                continue
+            words = _lost_words(drawing.what, reason)
+            section.lost.append(words[:1].upper() + words[1:])
+            if drawing.part == "exports":
+                exports.pop(drawing.network, None)
+
+
+def _lost_words(what: str, reason: str) -> str:
+    """A lost drawing in words.
+
+    >>> _lost_words("Figure", "killed")
+    'Figure not drawn: the worker process died, also when it drew nothing else (killed).'
+    """
+    return (f"{what} not drawn: the worker process died, also when it drew nothing else "
+            f"({reason}).")
 
 
 def _network_tasks(study: Study, tables: list[Path], units: str,
-                   origin: tuple[float, float] | None
-                   ) -> list[tuple[Callable[[Any, SharedFile], dict[str, bytes]],
-                                   NetworkTask, Path]]:
-    """The sheets and exports task of every network: each with the network's records and
-    the curves it draws (those of :func:`reports.sheets.pick_sheets` and of
-    :func:`drawn_geometry`)."""
+                   origin: tuple[float, float] | None) -> list[tuple[Drawing, Path]]:
+    """The sheets and exports drawing of every network, with the network's file: each
+    with the network's records and the curves it draws (those of
+    :func:`reports.sheets.pick_sheets` and of :func:`drawn_geometry`)."""
     from reports.sheets import MAX_SHEETS, pick_sheets
 
     frame = study.frame()
     head = Study([], [], study.table, study.method, study.clearance_m)
-    out: list[tuple[Callable[[Any, SharedFile], dict[str, bytes]], NetworkTask, Path]] = []
+    out: list[tuple[Drawing, Path]] = []
     for nc in study.networks:
         records = tuple(r for r in study.records if r.network == nc.name)
         by_id = {c.curve_id: c for c in nc.curves}
@@ -358,12 +441,14 @@ def _network_tasks(study: Study, tables: list[Path], units: str,
         names = tuple(export_names(nc.name, _georeferenced(nc, origin)).items())
         base = NetworkTask(nc.name, str(nc.path), (), records, head, tuple(map(str, tables)),
                            units, names, origin)
-        out.append((network_sheets_pdf, NetworkTask(
-            **{**base.__dict__, "curves": tuple(bare(by_id[c]) for c in sheet_ids),
-               "records": sheeted}), nc.path))
-        out.append((network_exports, NetworkTask(
-            **{**base.__dict__, "curves": tuple(bare(by_id[c]) for c in drawn_ids)}),
-            nc.path))
+        sheets = NetworkTask(**{**base.__dict__, "records": sheeted,
+                                "curves": tuple(bare(by_id[c]) for c in sheet_ids)})
+        exports = NetworkTask(**{**base.__dict__,
+                                 "curves": tuple(bare(by_id[c]) for c in drawn_ids)})
+        out.append((Drawing(network_sheets_pdf, sheets, nc.name, "sheets",
+                            f"sheets (sheets/{file_name([nc.name], '.pdf')})"), nc.path))
+        out.append((Drawing(network_exports, exports, nc.name, "exports", "exports ("
+                            + ", ".join(f"exports/{n}" for _, n in names) + ")"), nc.path))
     return out
 
 
@@ -384,13 +469,14 @@ def write_report(study: Study, folder: Path, tables: list[Path], units: str = "m
         write_sheets(study, folder / "sheets", tables, units)
     else:
         drawings = Drawings(executor, folder)
-        for fn, task, path in _network_tasks(study, tables, units, origin):
-            drawings.submit(fn, task, path)
+        for drawing, path in _network_tasks(study, tables, units, origin):
+            drawings.submit(drawing, path)
         exports = {nc.name: export_names(nc.name, _georeferenced(nc, origin))
                    for nc in study.networks}
         sections = build_sections(study, folder, units, waived,
                                   draw=drawings.curve_figure(study, units))
         drawings.finish()
+        drawings.mark_lost(sections, exports)
     write_text_atomic(folder / "report.md", markdown(study, sections, folder, units))
     write_text_atomic(folder / "report.html", html_document(study, sections, units, exports))
 

@@ -9,10 +9,8 @@ beside it (SVG versions are there too).
 
 from __future__ import annotations
 
-import base64
 import hashlib
 import html
-import io
 import math
 import re
 from collections.abc import Callable
@@ -31,6 +29,7 @@ from reports.feedback import (
 )
 from reports.figures import COLOURS, plot_curve, plot_network, worst_by_curve
 from reports.file_names import file_name
+from reports.html_images import img_tag
 from reports.profile_figure import VerticalEntry, vertical_entries
 from reports.records import RunRecord
 from reports.study import VERDICT_ORDER, NetworkCurves, Study
@@ -39,10 +38,9 @@ from reports.units import length_scale, text_in_units
 from reports.vertical import vertical_words
 from reports.waivers import Waived
 
-__all__ = ["COMPACT_MADE", "CSS", "CurveEntry", "HTML_IMAGE_COLOURS", "HTML_IMAGE_WIDTH_PX",
-           "MATRIX_VEHICLES", "MAX_CURVE_FIGURES", "MAX_ENVELOPES", "SYMBOL",
-           "Section", "TIGHT_M", "anchor", "build_sections", "compact_key", "compact_png",
-           "html_document", "margin_words", "markdown", "pick_envelopes", "run_words"]
+__all__ = ["CSS", "CurveEntry", "MATRIX_VEHICLES", "MAX_CURVE_FIGURES", "MAX_ENVELOPES",
+           "SYMBOL", "Section", "TIGHT_M", "anchor", "build_sections", "html_document",
+           "margin_words", "markdown", "pick_envelopes", "run_words"]
 
 #: A curve is *tight* when its smallest margin is below this (m) though clear.
 TIGHT_M = 0.25
@@ -65,6 +63,8 @@ class CurveEntry:
     drawn: list[str]  # the vehicles the figure shows
     #: What the curve serves, in words (:func:`reports.feedback.serves_sentence`).
     serves: str = ""
+    #: Why the curve has no figure though it was to have one (its drawing was lost).
+    missing: str = ""
 
 
 @dataclass
@@ -77,10 +77,9 @@ class Section:
     worst: pd.DataFrame
     matrix: pd.DataFrame  # rows curve_id, columns vehicles: "verdict|margin"
     all_clear: int
-    curve_figures: list[tuple[str, Path, str]] = field(default_factory=list)
     omitted: int = 0
     #: Every failing or tight curve in matrix order: curve id, its figure (None beyond
-    #: :data:`MAX_CURVE_FIGURES`), every run on it worst first, the vehicles drawn.
+    #: :data:`MAX_CURVE_FIGURES` or when lost), every run worst first, the vehicles drawn.
     curves: list[CurveEntry] = field(default_factory=list)
     #: Vehicles, curves and runs of the network.
     n_vehicles: int = 0
@@ -96,6 +95,8 @@ class Section:
     #: Swung runs on the curves without a section of their own (they clear with room to
     #: spare, but only by swinging wide): said in words under the matrix.
     swung: list = field(default_factory=list)
+    #: Outputs of the network that were not drawn (their drawing was lost), in words.
+    lost: list[str] = field(default_factory=list)
 
 
 def build_sections(study: Study, folder: Path, units: str = "m",
@@ -160,9 +161,6 @@ def build_sections(study: Study, folder: Path, units: str = "m",
             stem = figs / file_name([nc.name, "curve", cid], room=4)
             png = (plot_curve(nc, by_id[cid], shown, stem, table=study.table, units=units)[0]
                    if draw is None else draw(nc, by_id[cid], shown, stem))
-            caption = ", ".join(f"{r.vehicle} {r.verdict} ({r.margin_m / scale:+.2f} {units})"
-                                for r in shown)
-            section.curve_figures.append((cid, png, caption))
             section.curves.append(CurveEntry(cid, png, recs, [r.vehicle for r in shown],
                                              serves_text(recs)))
         for cid in [c for c in worst.curve_id if c in bad][len(picked):]:
@@ -250,6 +248,7 @@ def markdown(study: Study, sections: list[Section], folder: Path, units: str = "
                   "| " + " | ".join(s.counts) + " |", "|" + "---|" * len(s.counts),
                   "| " + " | ".join(str(v) for v in s.counts.values()) + " |", "",
                   f"![plan of {s.name}]({_rel(s.plan, folder)})", ""]
+        lines += [x for t in s.lost for x in (t, "")]
         if s.serves:
             lines += serves_markdown(s.serves, _md_cell)
         worst = []
@@ -289,14 +288,15 @@ def markdown(study: Study, sections: list[Section], folder: Path, units: str = "
                       for cid, v, verdict, m, reason, where in s.waived]
             lines.append("")
         for c in s.curves:
-            if c.figure is None:
+            if c.figure is None and not c.missing:
                 continue
             lines += [f"### `{c.curve_id}`", ""]
             if c.serves:
                 lines += [c.serves, ""]
-            lines += [f"![{c.curve_id}]({_rel(c.figure, folder)})",
-                      "", f"Every vehicle, worst first (the figure draws "
-                      f"{counted(len(c.drawn), 'envelope')}):", ""]
+            lines += ([f"![{c.curve_id}]({_rel(c.figure, folder)})", "",
+                       f"Every vehicle, worst first (the figure draws "
+                       f"{counted(len(c.drawn), 'envelope')}):", ""] if c.figure is not None
+                      else [c.missing, "", "Every vehicle, worst first:", ""])
             lines += [f"- {_md_cell(run_words(r, units))}"
                       + (" (drawn)" if r.vehicle in c.drawn else "") for r in c.runs]
             lines.append("")
@@ -400,55 +400,6 @@ a{color:inherit;text-decoration:none}
 #: Matrix columns (vehicles) per table: wider matrices are split into several tables, each
 #: with the curve names, so that each fits a screen and a printed page.
 MATRIX_VEHICLES = 12
-#: Figures in report.html: at most this wide (pixels) and quantised to this many colours.
-HTML_IMAGE_WIDTH_PX = 600
-HTML_IMAGE_COLOURS = 24
-
-
-#: Compact copies already made (by a worker that drew the figure, which has the PNG at
-#: hand), by :func:`compact_key`: :func:`compact_png` of the same bytes returns them.
-COMPACT_MADE: dict[str, bytes] = {}
-
-
-def compact_key(data: bytes, width_px: int = HTML_IMAGE_WIDTH_PX,
-                colours: int = HTML_IMAGE_COLOURS) -> str:
-    """The key of a full PNG's compact copy in :data:`COMPACT_MADE`: its SHA-256 and the
-    size asked for.
-
-    >>> compact_key(b"")[-7:]
-    '-600-24'
-    """
-    return f"{hashlib.sha256(data).hexdigest()}-{width_px}-{colours}"
-
-
-def compact_png(png: Path, width_px: int = HTML_IMAGE_WIDTH_PX,
-                colours: int = HTML_IMAGE_COLOURS) -> bytes:
-    """A figure made small for the HTML: scaled down to ``width_px`` and quantised to a
-    palette of ``colours`` (PNG, with Pillow, which matplotlib requires).
-
-    The full-resolution PNG and the SVG stay in ``figures/``.
-    """
-    from PIL import Image
-
-    data = Path(png).read_bytes()
-    made = COMPACT_MADE.get(compact_key(data, width_px, colours))
-    if made is not None:
-        return made
-    with Image.open(io.BytesIO(data)) as opened:
-        im = opened.convert("RGB")
-        if im.width > width_px:
-            im = im.resize((width_px, round(im.height * width_px / im.width)),
-                           Image.Resampling.LANCZOS)
-        im = im.quantize(colours, method=Image.Quantize.MEDIANCUT, dither=Image.Dither.NONE)
-        buf = io.BytesIO()
-        im.save(buf, "PNG", optimize=True)
-        return buf.getvalue()
-
-
-def _img(png: Path, alt: str, lazy: bool = True) -> str:
-    data = base64.b64encode(compact_png(png)).decode("ascii")
-    loading = ' loading="lazy"' if lazy else ""
-    return f'<img alt="{html.escape(alt)}"{loading} src="data:image/png;base64,{data}">'
 
 
 def anchor(network: str, curve_id: str | None = None) -> str:
@@ -524,7 +475,7 @@ def _vertical_html(s: Section, units: str) -> list[str]:
                        for r in v.runs)
         head = f"<h4><code>{e(v.curve_id)}</code> (vertical)</h4>"
         if v.figure is not None:
-            out.append(f"{head}<figure>{_img(v.figure, v.curve_id + ' profile')}"
+            out.append(f"{head}<figure>{img_tag(v.figure, v.curve_id + ' profile')}"
                        f"<figcaption><ul>{runs}</ul></figcaption></figure>")
         else:
             out.append(f"{head}<ul>{runs}</ul>")
@@ -572,9 +523,10 @@ def html_document(study: Study, sections: list[Section], units: str = "m",
         out.append("<table><tr>" + "".join(f"<th>{e(k)}</th>" for k in s.counts)
                    + "</tr><tr>" + "".join(f"<td>{v}</td>" for v in s.counts.values())
                    + "</tr></table>")
-        out.append(f"<figure>{_img(s.plan, 'plan of ' + s.name, lazy=False)}<figcaption>Plan "
+        out.append(f"<figure>{img_tag(s.plan, 'plan of ' + s.name, lazy=False)}<figcaption>Plan "
                    f"of {e(s.name)}: each curve coloured by its worst verdict; the worst "
                    "curves numbered as in the list below.</figcaption></figure>")
+        out += [f'<p class="lost">{e(t)}</p>' for t in s.lost]
         items = []
         for r in s.worst.head(8).itertuples():
             if r.verdict == "clear" and r.margin_m > TIGHT_M:
@@ -619,10 +571,13 @@ def html_document(study: Study, sections: list[Section], units: str = "m",
             if c.serves:
                 head += f'<p class="serves">{e(c.serves)}</p>'
             if c.figure is not None:
-                out.append(f"{head}<figure>{_img(c.figure, c.curve_id)}<figcaption>"
+                out.append(f"{head}<figure>{img_tag(c.figure, c.curve_id)}<figcaption>"
                            f"<code>{e(c.curve_id)}</code>, every vehicle worst first (the "
                            f"figure draws {counted(len(c.drawn), 'envelope')}):"
                            f"<ul>{runs}</ul></figcaption></figure>")
+            elif c.missing:
+                out.append(f"{head}<p>{e(c.missing)} Every vehicle worst first:</p>"
+                           f"<ul>{runs}</ul>")
             else:
                 out.append(f"{head}<p>No figure (beyond the first {MAX_CURVE_FIGURES} of "
                            f"the network); every vehicle worst first:</p><ul>{runs}</ul>")

@@ -401,7 +401,7 @@ def test_waivers_and_a_selection(tmp_path):
 def test_embedded_figures_are_compact_copies(report):
     from PIL import Image
 
-    from reports.document import HTML_IMAGE_COLOURS, HTML_IMAGE_WIDTH_PX, compact_png
+    from reports.html_images import HTML_IMAGE_COLOURS, HTML_IMAGE_WIDTH_PX, compact_png
 
     text = (report / "report.html").read_text()
     embedded = re.findall(r'src="data:image/png;base64,([^"]+)"', text)
