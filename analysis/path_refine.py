@@ -16,17 +16,22 @@ derivatives) over the six numbers of one profile (:class:`Knots`):
 Between these five knots the offset follows half cosines (:func:`knot_profile`): smooth,
 with no sideways jump.
 
-The search (:class:`RefineSearch`) starts from a seed (:func:`seed_knots`: the family's best
-held or fitted path, else the lane) and each round tries the twelve moves of one step up
-and down in each number (:func:`compass_moves`), within fixed bounds. The best move that
-improves on the current path is taken; when none does, the steps are halved. The order of
-paths is that of the family (:func:`analysis.path_search.rank`: the worst area left, then
-the margin), and a path the vehicle cannot drive within its lock and steering rate ranks
-by how far it left the line, so that the search moves toward paths it can drive. A run's
-search stops once it finds a path on the pavement, or after :attr:`RefineSearch.rounds`
-rounds: at most ``1 + 12 rounds`` candidates per run, in a fixed order, so the search is
-deterministic and bounded. Which runs get it, and how the candidates of all runs are
-driven together, is :mod:`networks.sumo.swing`'s.
+The search (:class:`RefineSearch`) starts from the family's two best held or fitted paths
+as knots (:func:`seed_knots`), or, where there are fewer (none could be driven, or the best
+was a corner cut), from the best of those and a coarse lattice (:func:`lattice_knots`).
+From each start a *compass search* tries, each round, the twelve moves of one step up and
+down in each number (:func:`compass_moves`), within fixed bounds; the best move that
+improves the margin by more than :attr:`RefineSearch.min_gain_m` is taken, and when none
+does the steps are halved. The order of paths is that of the family
+(:func:`analysis.path_search.rank`: the worst area left, then the margin), and a path the
+vehicle cannot drive within its lock and steering rate ranks by how far it left the line,
+so that the search moves toward paths it can drive. A run's searches stop once one finds a
+path on the pavement; a search stops early when it has found nothing drivable after
+:attr:`RefineSearch.drivable_by` rounds or is still off the pavement by more than
+:attr:`RefineSearch.max_loss_m` after :attr:`RefineSearch.near_by`; else after
+:attr:`RefineSearch.rounds` rounds: at most :attr:`RefineSearch.count` candidates per run,
+in a fixed order, so the search is deterministic and bounded. Which runs get it, and how
+the candidates of all runs are driven together, is :mod:`networks.sumo.swing`'s.
 """
 
 from __future__ import annotations
@@ -105,12 +110,21 @@ class RefineSearch:
     min_room_m
         An outward room under this gives the lattice no swing there (:func:`lattice_knots`).
     starts
-        Compass searches per run, from the best of the lattice and the seed.
+        Compass searches per run: from the family's best held or fitted paths as knots
+        (:func:`seed_knots`), and where there are fewer, from the best of those and the
+        lattice (:func:`lattice_knots`).
+    lattice_levels
+        The offsets of the lattice at each knot: this many, evenly from none to all of the
+        room there.
+    drivable_by, near_by
+        A compass search stops early when, after ``drivable_by`` rounds, it has found no
+        line the vehicle can drive, or, after ``near_by`` rounds, its line still leaves the
+        pavement by more than ``max_loss_m``.
 
     Examples
     --------
     >>> RefineSearch().count
-    220
+    221
     >>> RefineSearch(rounds=0)
     Traceback (most recent call last):
     ...
@@ -125,12 +139,18 @@ class RefineSearch:
     min_gain_m: float = 0.01
     min_room_m: float = 0.15
     starts: int = 2
+    lattice_levels: int = 3
+    drivable_by: int = 2
+    near_by: int = 3
 
     def __post_init__(self) -> None:
         if not (isinstance(self.rounds, int) and self.rounds >= 1):
             raise InputError(f"refine search: rounds must be >= 1, got {self.rounds!r}")
         if not (isinstance(self.starts, int) and self.starts >= 1):
             raise InputError(f"refine search: starts must be >= 1, got {self.starts!r}")
+        if not (isinstance(self.lattice_levels, int) and self.lattice_levels >= 2):
+            raise InputError("refine search: lattice_levels must be >= 2, got "
+                             f"{self.lattice_levels!r}")
         lo, hi, st = self.lower.values(), self.upper.values(), self.step.values()
         if not (all(a <= b for a, b in zip(lo, hi, strict=True)) and all(x > 0 for x in st)
                 and lo[0] > 0 and lo[4] > 0 and 0 <= lo[5] <= hi[5] <= 1):
@@ -139,9 +159,9 @@ class RefineSearch:
 
     @property
     def count(self) -> int:
-        """Candidates per run, at most: the lattice of 27, the family's seed, and 12 moves
-        a round from each start."""
-        return 28 + 12 * self.rounds * self.starts
+        """Candidates per run, at most: the family's seeds, the lattice, and 12 moves a
+        round from each start."""
+        return self.starts + self.lattice_levels ** 3 + 12 * self.rounds * self.starts
 
     def clip(self, values: FloatArray) -> Knots:
         """Knots within the bounds."""
@@ -245,7 +265,8 @@ def lattice_knots(rooms_m: tuple[float, float, float] | None, search: RefineSear
         r = min(room, top)
         if not r >= search.min_room_m:
             return [0.0]
-        return [0.0, round(0.5 * r, 3), round(r, 3)]
+        n = search.lattice_levels
+        return [round(r * k / (n - 1), 3) for k in range(n)]
 
     rooms = rooms_m or (0.0, 0.0, 0.0)
     up = search.upper

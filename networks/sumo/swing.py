@@ -233,15 +233,25 @@ def _better(key: tuple[float, ...], than: tuple[float, ...], by_m: float) -> boo
     return key[2] > than[2] + by_m
 
 
+def _hopeless(key: tuple[float, ...], done: int, refine: RefineSearch) -> bool:
+    """Whether a compass search that has run ``done`` rounds stops without a path on the
+    pavement: none it can drive after :attr:`~RefineSearch.drivable_by` rounds, or still
+    off the pavement by more than :attr:`~RefineSearch.max_loss_m` after
+    :attr:`~RefineSearch.near_by` rounds (searches that end paved get there sooner)."""
+    if key[0] == 0:
+        return done >= refine.drivable_by
+    return key[0] == 1 and done >= refine.near_by and key[1] < -refine.max_loss_m
+
+
 def _refine(runs: list[DrivenRun], measured: dict[int, _Run],
             tried: dict[int, list[tuple[Candidate, RunResult | None]]],
             lane_of: Callable[[DrivenRun], RunResult], drive_all: _Driver,
             refine: RefineSearch) -> int:
     """The search of :mod:`analysis.path_refine` for every run whose best path so far
     leaves the pavement by at most :attr:`~analysis.path_refine.RefineSearch.max_loss_m`,
-    or cannot turn: the coarse lattice and the family's best held or fitted path as knots,
-    then a compass search from the best of them. All runs' candidates of a stage are driven
-    together. Returns how many runs were refined."""
+    or cannot turn: compass searches from the family's best held or fitted paths as knots,
+    or from the best of those and the coarse lattice. All runs' candidates of a stage are
+    driven together. Returns how many runs were refined."""
     firsts: list[tuple[DrivenRun, Candidate]] = []
     knots: list[Knots] = []
     for d in runs:
@@ -252,8 +262,17 @@ def _refine(runs: list[DrivenRun], measured: dict[int, _Run],
                            and c.paved_margin_m < -refine.max_loss_m):
             continue
         m = measured[id(d)]
-        seed = seed_knots(tried[id(d)][best - 1][0] if best else None, m.feature_m)
-        for k in dict.fromkeys([*lattice_knots(m.rooms_m, refine), seed]):
+        # the family's best held or fitted paths as knots, best first; the lattice where
+        # there are fewer than the starts wanted (none drivable, or the best a corner cut)
+        order = sorted(range(len(tried[id(d)])),
+                       key=lambda i: _key(tried[id(d)][i][1], 0.0), reverse=True)
+        seeds = list(dict.fromkeys(
+            seed_knots(tried[id(d)][i][0], m.feature_m) for i in order
+            if tried[id(d)][i][1] is not None
+            and tried[id(d)][i][0].shape in ("held", "fitted")))[:refine.starts]
+        if len(seeds) < refine.starts:
+            seeds += lattice_knots(m.rooms_m, refine)
+        for k in dict.fromkeys(seeds):
             cand = refined_candidate(m.path, m.feature_m, m.turn_angle_deg, k, m.reach_m)
             if cand is not None:
                 firsts.append((d, cand))
@@ -279,9 +298,10 @@ def _compass(starts: list[tuple[DrivenRun, tuple[tuple[float, ...], Knots]]],
         return refined_candidate(m.path, m.feature_m, m.turn_angle_deg, k, m.reach_m)
 
     state = [(d, k, np.array(refine.step.values()), key) for d, (key, k) in starts]
-    for _ in range(refine.rounds):
+    for r in range(refine.rounds):
         paved = {id(d) for d, _, _, key in state if key[0] >= 2}
-        active = [i for i, (d, _, _, _) in enumerate(state) if id(d) not in paved]
+        active = [i for i, (d, _, _, key) in enumerate(state)
+                  if id(d) not in paved and not _hopeless(key, r, refine)]
         moves: list[tuple[DrivenRun, Candidate]] = []
         which: list[tuple[int, Knots]] = []
         for i in active:
