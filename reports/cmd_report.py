@@ -148,10 +148,11 @@ def drawn_geometry(study: Study, limit: int = DRAWN_RUNS
         if f.empty:
             continue
         by_id = {c.curve_id: c for c in nc.curves}
+        records = {(r.vehicle, r.curve_id): r for r in study.records if r.network == nc.name}
         for row in worst_by_curve(f).head(limit).itertuples():
             curve = by_id[row.curve_id]
-            [driven] = rerun(nc, curve, [vehicles[row.vehicle]], study.clearance_m,
-                             swing=row.path == "swung")
+            [driven] = rerun(nc, curve, [vehicles[row.vehicle]],
+                             [records[(row.vehicle, row.curve_id)]], study.clearance_m)
             out[(nc.name, row.vehicle, row.curve_id)] = run_geometry(curve, driven)
     return out
 
