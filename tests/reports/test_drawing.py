@@ -111,3 +111,20 @@ def test_the_drawings_are_those_of_the_search(study, tmp_path):
         assert len(outlines) == len(was_outlines) and len(paths) == len(was_paths)
         assert all(a.equals_exact(b, 0.0) for a, b in zip(outlines, was_outlines, strict=True))
         assert all(a.equals_exact(b, 0.0) for a, b in zip(paths, was_paths, strict=True))
+
+
+def test_the_exports_task_carries_only_the_lines_it_draws(study):
+    """(reports.cmd_report) A network's exports drive its worst run of each of the worst
+    curves again; the other records go to the worker without their lines."""
+    from reports.cmd_report import _network_tasks
+
+    tasks = {d.part: d.task for d, _ in _network_tasks(study, [], "m", None)}
+    drawn = drawn_geometry(study)
+    exported = tasks["exports"].records
+    assert [r.curve_id for r in exported] == [r.curve_id for r in study.records]
+    for r, was in zip(exported, study.records, strict=True):
+        assert (r.line is not None) == (was.line is not None
+                                        and (r.network, r.vehicle, r.curve_id) in drawn)
+        assert r.line is None or r.line is was.line
+    assert any(r.line is not None for r in exported)
+    assert any(r.line is None and r.path == "swung" for r in exported)
