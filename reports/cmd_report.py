@@ -23,7 +23,7 @@ import time
 from collections.abc import Callable
 from concurrent.futures import Future
 from concurrent.futures.process import BrokenProcessPool
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any, Literal
 
@@ -148,10 +148,11 @@ def drawn_geometry(study: Study, limit: int = DRAWN_RUNS
         if f.empty:
             continue
         by_id = {c.curve_id: c for c in nc.curves}
+        records = {(r.vehicle, r.curve_id): r for r in study.records if r.network == nc.name}
         for row in worst_by_curve(f).head(limit).itertuples():
             curve = by_id[row.curve_id]
-            [driven] = rerun(nc, curve, [vehicles[row.vehicle]], study.clearance_m,
-                             swing=row.path == "swung")
+            [driven] = rerun(nc, curve, [vehicles[row.vehicle]],
+                             [records[(row.vehicle, row.curve_id)]], study.clearance_m)
             out[(nc.name, row.vehicle, row.curve_id)] = run_geometry(curve, driven)
     return out
 
@@ -436,14 +437,20 @@ def _network_tasks(study: Study, tables: list[Path], units: str,
         sheeted = tuple(pick_sheets(records, MAX_SHEETS))
         sheet_ids = dict.fromkeys(r.curve_id for r in sheeted)
         f = frame[(frame.network == nc.name) & (frame.verdict != "error")]
-        drawn_ids = (dict.fromkeys(worst_by_curve(f).head(DRAWN_RUNS).curve_id)
-                     if study.method == "simulate" and not f.empty else {})
+        drawn = (worst_by_curve(f).head(DRAWN_RUNS) if study.method == "simulate"
+                 and not f.empty else f.iloc[:0])
+        drawn_ids = dict.fromkeys(drawn.curve_id)
+        # the exports drive only their drawn runs again: the others' swung lines (tens of
+        # kB each) stay here
+        runs = set(zip(drawn.vehicle, drawn.curve_id, strict=True))
+        exported = tuple(r if r.line is None or (r.vehicle, r.curve_id) in runs
+                         else replace(r, line=None) for r in records)
         names = tuple(export_names(nc.name, _georeferenced(nc, origin)).items())
         base = NetworkTask(nc.name, str(nc.path), (), records, head, tuple(map(str, tables)),
                            units, names, origin)
         sheets = NetworkTask(**{**base.__dict__, "records": sheeted,
                                 "curves": tuple(bare(by_id[c]) for c in sheet_ids)})
-        exports = NetworkTask(**{**base.__dict__,
+        exports = NetworkTask(**{**base.__dict__, "records": exported,
                                  "curves": tuple(bare(by_id[c]) for c in drawn_ids)})
         out.append((Drawing(network_sheets_pdf, sheets, nc.name, "sheets",
                             f"sheets (sheets/{file_name([nc.name], '.pdf')})"), nc.path))

@@ -16,8 +16,11 @@ For each vehicle drawn (:func:`draw_curve`):
 Every vehicle keeps its colour (:func:`reports.plotting.vehicle_colours`); lengths are in
 the report's units. The drawing needs each run's trajectory, which a study's records do not
 keep (their runs happen in worker processes, :mod:`reports.batch`): :func:`rerun` drives
-the few runs a figure shows again in this process with the model alone
-(:func:`networks.sumo.driver.drive` with ``DriveOptions(use_sumo=False)``). The model is
+the few runs a figure shows again in this process with the model alone, each on the path
+its record says it took: its lane (:func:`networks.sumo.driver.drive` with
+``DriveOptions(use_sumo=False, swing=False)``) or the swung line the study chose
+(:attr:`RunRecord.line <reports.records.RunRecord.line>`,
+:func:`networks.sumo.runs.drive_lines`), without searching it again. The model is
 deterministic and SUMO only replays it, so the envelope and the verdict are the study's.
 """
 
@@ -43,6 +46,7 @@ from analysis.trailer import hitch_point
 from networks.curves import Curve
 from networks.plot import EDGE_OF_PAVEMENT, fill_geometry, plot_plan
 from networks.sumo.driver import DrivenRun, DriveOptions, drive
+from networks.sumo.runs import drive_lines
 from reports.plotting import add_north_arrow, add_scale_bar, plan_axes
 from reports.records import RunRecord
 from reports.study import NetworkCurves
@@ -113,15 +117,30 @@ def path_words(s: Shown, units: str = "m") -> str:
     return f"{s.record.vehicle}: on the lane centre line"
 
 
-def rerun(nc: NetworkCurves, curve: Curve, vehicles: Sequence[Vehicle], clearance_m: float,
-          swing: bool = True) -> list[DrivenRun]:
-    """The runs of ``vehicles`` on ``curve`` again, model only (same trajectory, envelope
-    and verdict as the study's, SUMO left out); ``swing`` as the study's (``False`` for a
-    ``--lane-only`` study, or where none of the runs took a swung path)."""
-    if not vehicles:
-        return []
-    return drive(nc.network, [(v, curve) for v in vehicles],
-                 options=DriveOptions(use_sumo=False, offset_m=clearance_m, swing=swing))
+def rerun(nc: NetworkCurves, curve: Curve, vehicles: Sequence[Vehicle],
+          records: Sequence[RunRecord], clearance_m: float) -> list[DrivenRun]:
+    """The runs of ``records`` on ``curve`` again (``vehicles[i]`` the vehicle of
+    ``records[i]``), model only, each on the path the study took: the lane's centre line,
+    or the swung line the record keeps (:attr:`RunRecord.line
+    <reports.records.RunRecord.line>`), driven and judged as the search judged it. The
+    trajectory, envelope, verdict and margins are the study's; neither SUMO nor the search
+    of swung paths runs again. A swung record without its line (made without it) is
+    searched again, as the study searched it."""
+    if len(vehicles) != len(records):
+        raise ValueError(f"rerun: {len(vehicles)} vehicles for {len(records)} records")
+    out: dict[int, DrivenRun] = {}
+    searched = {i for i, r in enumerate(records) if r.path == "swung" and r.line is None}
+    for swing in (False, True):
+        which = [i for i in range(len(records)) if (i in searched) == swing]
+        if which:
+            runs = drive(nc.network, [(vehicles[i], curve) for i in which],
+                         options=DriveOptions(use_sumo=False, offset_m=clearance_m,
+                                              swing=swing))
+            out.update(zip(which, runs, strict=True))
+    lined = [(out[i], line) for i, r in enumerate(records)
+             if r.path == "swung" and (line := r.line) is not None]
+    drive_lines([d for d, _ in lined], [line for _, line in lined], clearance_m)
+    return [out[i] for i in range(len(records))]
 
 
 def length_text(value_m: float, units: str, digits: int = 2) -> str:

@@ -182,8 +182,8 @@ def shown_runs(nc: NetworkCurves, curve: Curve, records: Sequence[RunRecord],
     offsets = {s.record.clearance_m for s in todo}
     for off in sorted(offsets):
         group = [s for s in todo if s.record.clearance_m == off]
-        runs = rerun(nc, curve, [by_name[s.record.vehicle] for s in group], off,
-                     swing=any(s.record.path == "swung" for s in group))
+        runs = rerun(nc, curve, [by_name[s.record.vehicle] for s in group],
+                     [s.record for s in group], off)
         for s, d in zip(group, runs, strict=True):
             s.driven = d
     return shown

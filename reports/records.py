@@ -13,6 +13,7 @@ from dataclasses import dataclass, field
 from shapely.geometry.base import BaseGeometry
 
 from analysis.clearance import VERDICTS
+from networks.sumo.runs import SwungLine
 
 __all__ = ["COLUMNS", "VERDICT_ORDER", "RunRecord"]
 
@@ -91,6 +92,11 @@ class RunRecord:
     overreach_x: float = math.nan
     overreach_y: float = math.nan
     extra_width_m: float = math.nan
+    #: A swung run's line (:class:`networks.sumo.runs.SwungLine`), with which a drawing
+    #: drives it again without the search (:func:`reports.drawing.rerun`); ``None`` on the
+    #: lane, for the analytic method, and in a record made without it. Not an output
+    #: column.
+    line: SwungLine | None = field(default=None, repr=False, compare=False)
 
     def row(self) -> dict[str, object]:
         """The record's values by :data:`COLUMNS`."""

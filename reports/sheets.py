@@ -276,7 +276,7 @@ def network_sheets(study: Study, nc: NetworkCurves, tables: Sequence[Path],
         if not group:  # analytic runs: drawn by their envelopes alone
             continue
         runs = rerun(nc, by_curve[cid], [by_name[s.record.vehicle] for s in group],
-                     study.clearance_m, swing=any(s.record.path == "swung" for s in group))
+                     [s.record for s in group], study.clearance_m)
         for s, d in zip(group, runs, strict=True):
             s.driven = d
     head = title_rows(nc, tables)

@@ -2,6 +2,8 @@
 
 :func:`networks.sumo.driver.drive` takes a :class:`DriveOptions` and returns one
 :class:`DrivenRun` per vehicle x curve pair; :class:`DriveStats` says where its time went.
+A run that took a swung path keeps the line it took (:class:`SwungLine`), which
+:func:`drive_lines` drives and judges again without the search.
 :func:`select_curves` picks curves by id (with close matches for a typo) and
 :func:`curve_areas` turns a curve's areas into the :class:`~analysis.clearance.Areas` its
 verdict is measured against.
@@ -15,15 +17,18 @@ import os
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 
-from analysis.clearance import Areas, RunResult
+import shapely
+
+from analysis.clearance import Areas, RunResult, evaluate
 from analysis.path_search import encroaches_on
-from analysis.tracking import TrackingRun
+from analysis.polyline import Path
+from analysis.tracking import TrackingRun, TrackingSettings, simulate_batch
 from networks.curves import Curve
 from vehicles.errors import InputError
 from vehicles.vehicle import Vehicle
 
-__all__ = ["DEFAULT_SUMO_STEP_S", "DriveOptions", "DriveStats", "DrivenRun", "curve_areas",
-           "select_curves"]
+__all__ = ["DEFAULT_SUMO_STEP_S", "DriveOptions", "DriveStats", "DrivenRun", "SwungLine",
+           "curve_areas", "drive_lines", "select_curves"]
 
 DEFAULT_SUMO_STEP_S = 0.2
 """SUMO's default step length (s): every second sample of the model's default 0.1 s."""
@@ -155,6 +160,29 @@ class DriveStats:
     refine_cpu_s: float = 0.0
 
 
+@dataclass(frozen=True, eq=False)
+class SwungLine:
+    """The swung line a run took (:mod:`networks.sumo.swing`): enough to drive and judge it
+    again without the search (:func:`drive_lines`).
+
+    Attributes
+    ----------
+    path
+        The line the follower was given (the chosen candidate's
+        :attr:`~analysis.path_search.Candidate.path`).
+    window_m
+        ``(start, end)`` along ``path`` (m): the part judged (the candidate's
+        :attr:`~analysis.path_search.Candidate.window_m`).
+    swing_m
+        Its largest outward offset (m), negative for a corner cut
+        (:attr:`DrivenRun.swing_m`).
+    """
+
+    path: Path
+    window_m: tuple[float, float]
+    swing_m: float
+
+
 @dataclass
 class DrivenRun:
     """One vehicle x curve run: the model's result and how SUMO replayed it.
@@ -180,6 +208,9 @@ class DrivenRun:
     swing_m
         The swung path's largest outward offset over the feature (m), 0 on the lane;
         negative for a path that cuts inside at the apex (its depth).
+    line
+        The swung line taken (``None`` on the lane): what drives it again
+        (:func:`drive_lines`).
     """
 
     vehicle: Vehicle
@@ -192,6 +223,7 @@ class DrivenRun:
     lane_result: RunResult | None = field(default=None, repr=False)
     path: str = "lane"
     swing_m: float = 0.0
+    line: SwungLine | None = field(default=None, repr=False)
 
     @property
     def verdict(self) -> str:
@@ -265,3 +297,54 @@ def curve_areas(curve: Curve) -> Areas:
         return Areas(curve.own_lanes, curve.paved, curve.roadway, levels=curve.levels)
     except InputError as exc:
         raise InputError(f"curve {curve.curve_id}: {exc}") from None
+
+
+def drive_lines(runs: Sequence[DrivenRun], lines: Sequence[SwungLine], offset_m: float,
+                settings: TrackingSettings | None = None, batch_size: int = 100) -> int:
+    """Drive the swung lines a search chose again, model only, and judge them as it judged
+    them (:func:`analysis.clearance.evaluate` over the line's window, against the curve's
+    areas): the same follower on the same line gives the same trajectory, so the same
+    envelope, verdict and margins, without the search (:mod:`networks.sumo.swing`).
+
+    Parameters
+    ----------
+    runs
+        The runs, each with its lane result (``drive(..., DriveOptions(swing=False))``) or
+        none. ``runs[i]`` gets ``lines[i]``: its ``lane_result`` (the lane result),
+        ``result``, ``path`` (``swung``), ``swing_m`` and ``line`` are set as the search set
+        them; the result's reason is the judge's (the study's record says in words which
+        line it took). A run with an error keeps it; one whose line cannot be judged gets
+        one.
+    lines
+        The line of each run (:attr:`DrivenRun.line`).
+    offset_m
+        The clearance offset the envelopes are grown by (the study's).
+    settings
+        The follower's settings (the study's: the default).
+    batch_size
+        Lines driven together (:func:`analysis.tracking.simulate_batch`).
+
+    Returns
+    -------
+    int
+        How many runs were judged on their line.
+    """
+    settings = settings or TrackingSettings()
+    todo = [(d, line) for d, line in zip(runs, lines, strict=True) if not d.error]
+    areas: dict[str, Areas] = {}
+    for lo in range(0, len(todo), batch_size):
+        chunk = todo[lo:lo + batch_size]
+        driven = simulate_batch([d.vehicle for d, _ in chunk], [ln.path for _, ln in chunk],
+                                settings)
+        for (d, line), run in zip(chunk, driven, strict=True):
+            try:
+                cid = d.curve.curve_id
+                if cid not in areas:
+                    areas[cid] = curve_areas(d.curve)
+                res = evaluate(run, areas[cid], offset_m, feature_m=line.window_m)
+            except (InputError, ValueError, shapely.errors.ShapelyError) as exc:
+                d.error = f"its swung line could not be judged again: {exc}"
+                continue
+            d.lane_result, d.result = d.result, res
+            d.path, d.swing_m, d.line = "swung", line.swing_m, line
+    return sum(1 for d, _ in todo if not d.error)

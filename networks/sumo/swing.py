@@ -62,7 +62,7 @@ from analysis.path_search import (
 from analysis.polyline import Path
 from analysis.swing_room import outside_rooms_m, outside_sign
 from analysis.tracking import TrackingRun, TrackingSettings, simulate_batch
-from networks.sumo.runs import DrivenRun, DriveOptions, DriveStats
+from networks.sumo.runs import DrivenRun, DriveOptions, DriveStats, SwungLine
 from vehicles.errors import InputError
 
 __all__ = ["needs_swing", "swing_pass"]
@@ -359,6 +359,7 @@ def _choose(d: DrivenRun, lane: RunResult, tried: list[tuple[Candidate, RunResul
                                                                       reason=why))
     d.path = "swung"
     d.swing_m = _swing_m(cand)
+    d.line = SwungLine(cand.path, cand.window_m, d.swing_m)  # to draw it again, no search
     return True
 
 

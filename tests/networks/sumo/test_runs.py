@@ -1,4 +1,5 @@
-"""Drive options, curve selection and a curve's areas (networks.sumo.runs)."""
+"""Drive options, curve selection, a curve's areas and its swung lines driven again
+(networks.sumo.runs)."""
 
 from __future__ import annotations
 
@@ -9,7 +10,8 @@ import pytest
 from networks.curves import extract_curves
 from networks.reader import read_network
 from networks.samples import build as samples
-from networks.sumo.runs import DrivenRun, DriveOptions, curve_areas, select_curves
+from networks.sumo.driver import drive
+from networks.sumo.runs import DrivenRun, DriveOptions, curve_areas, drive_lines, select_curves
 from vehicles.errors import InputError
 from vehicles.table import bundled_table, load_tables
 
@@ -70,3 +72,30 @@ def test_a_run_without_result_is_an_error(intersection):
     run = DrivenRun(car, curves[0], error="SUMO refused the vehicle")
     assert run.verdict == "error" and run.reason == "SUMO refused the vehicle"
     assert DrivenRun(car, curves[0]).verdict == "error"
+
+
+def test_a_swung_line_driven_again_is_judged_as_the_search_judged_it(intersection):
+    net, curves = intersection
+    bus = load_tables([bundled_table("aashto_green_book")], ["CITY-BUS"]).vehicle("CITY-BUS")
+    # the designed corner: the bus fails on its lane, swings into the opposing lanes
+    [curve] = select_curves(curves, ["turn:X:XN_in_0->XW_out_0"])
+    [searched] = drive(net, [(bus, curve)], options=DriveOptions(use_sumo=False))
+    assert searched.path == "swung" and searched.line is not None
+    assert searched.line.swing_m == searched.swing_m
+    [again] = drive(net, [(bus, curve)], options=DriveOptions(use_sumo=False, swing=False))
+    assert again.path == "lane" and again.line is None
+    assert drive_lines([again], [searched.line], 0.0) == 1
+    assert (again.path, again.swing_m, again.line) == ("swung", searched.swing_m,
+                                                       searched.line)
+    assert again.result is not None and searched.result is not None
+    assert again.verdict == searched.verdict == "encroaches"
+    assert again.result.clearance.margin_m == searched.result.clearance.margin_m
+    assert again.result.clearance.paved_margin_m == searched.result.clearance.paved_margin_m
+    assert again.result.measured.equals_exact(searched.result.measured, 0.0)
+    assert again.lane_verdict == searched.lane_verdict == "fails"
+    assert again.lane_margin_m == searched.lane_margin_m
+    # a curve without its areas: that run's error, not the others'
+    (bare, *_) = extract_curves(net, ["turn"], areas=False)
+    lost = DrivenRun(bus, bare)
+    assert drive_lines([lost], [searched.line], 0.0) == 0
+    assert lost.verdict == "error" and "could not be judged" in lost.error
