@@ -23,9 +23,11 @@ def test_passing_gate(capsys):
 
 
 def test_failing_gate_lists_curve_vehicle_verdict_margin(capsys):
-    assert main(["check", "-n", NETS["intersection"], "--design-vehicle", "CITY-BUS"]) == 1
+    assert main(["check", "-n", NETS["intersection"], "--design-vehicle", "CITY-BUS",
+                 "--design-vehicle", "WB-62"]) == 1
     out = capsys.readouterr().out
-    assert "intersection: turn:T:TE_in_0->TS_out_0: CITY-BUS: fails (-" in out
+    # the semitrailer cannot turn right from T's west arm without leaving the pavement
+    assert "intersection: turn:T:TW_in_0->TS_out_0: WB-62: fails (-" in out
     # at X's NW corner the bus swings into the two opposing lanes and stays paved
     assert "intersection: turn:X:XN_in_0->XW_out_0: CITY-BUS: encroaches (-" in out
 

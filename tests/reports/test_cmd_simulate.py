@@ -232,7 +232,7 @@ SHARED = ("verdict", "margin_m", "paved_margin_m", "max_offtracking_m", "swept_w
 
 
 def test_results_carry_the_design_feedback_of_clearance_report(tmp_path):
-    vehicles = ["P", "CITY-BUS"]
+    vehicles = ["P", "CITY-BUS", "WB-62"]
     out = tmp_path / "sim"
     args = ["simulate", "-n", str(NET), "--junction", "T", "-o", str(out), "--workers", "1"]
     for v in vehicles:
@@ -244,7 +244,7 @@ def test_results_carry_the_design_feedback_of_clearance_report(tmp_path):
                       selection=Selection(junctions=("T",)))
     report = {(r["vehicle"], r["curve_id"]): r
               for r in csv.DictReader(io.StringIO(clearance_csv(study)))}
-    assert sim.keys() == report.keys() and len(sim) == 8
+    assert sim.keys() == report.keys() and len(sim) == 12
     for key, r in report.items():
         for c in SHARED:
             a, b = sim[key][c], r[c]

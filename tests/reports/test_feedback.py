@@ -63,7 +63,7 @@ def test_vehicles_are_ordered_by_their_curb_to_curb_diameter():
 
 
 def test_a_corner_that_p_clears_and_wb62_does_not_serves_up_to_p(study):
-    cid = "turn:T:TE_in_0->TS_out_0"
+    cid = "turn:T:TS_in_0->TE_out_0"
     runs = {r.vehicle: r for r in study.records if r.curve_id == cid}
     # the sample's designed verdicts (networks/samples/golden_verdicts.csv)
     assert {v: r.verdict for v, r in runs.items()} == {

@@ -131,7 +131,9 @@ def test_the_report_says_every_swung_path_and_what_each_curve_serves(report, row
     for r in rows:
         by_curve.setdefault(r["curve_id"], []).append(r)
     for r in swung:
-        assert r["reason"].startswith("swings ") and " m out" in r["reason"]
+        # the path in words: a swing out, a line of its own, or a corner cut
+        assert r["reason"].startswith(("swings ", "takes its own line: ", "cuts the corner "))
+        assert " m out" in r["reason"] or " m in" in r["reason"] or "inside" in r["reason"]
         # in its curve's section, or (a curve clear with room to spare) under the matrix
         assert f"{r['vehicle']}: {r['verdict']}" in text
         assert r["reason"] in " ".join(text.split())

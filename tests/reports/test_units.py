@@ -152,7 +152,7 @@ def test_vertical_words_give_the_suspect_heights_in_feet():
 # --------------------------------------------------------------- a real study in feet
 
 NET = samples.SAMPLES_DIR / "intersection" / "intersection.net.xml"
-VEHICLES = ["P", "CITY-BUS"]
+VEHICLES = ["P", "CITY-BUS", "WB-62"]
 
 
 @pytest.fixture(scope="module")
