@@ -39,7 +39,7 @@ from collections.abc import Callable
 import numpy as np
 import shapely
 
-from analysis.clearance import Areas, RunResult, evaluate
+from analysis.clearance import Areas, Clearance, RunResult, evaluate
 from analysis.feature import feature_mask, feature_reason
 from analysis.path_refine import (
     Knots,
@@ -50,6 +50,7 @@ from analysis.path_refine import (
     seed_knots,
 )
 from analysis.path_search import (
+    BETTER_BY_M,
     TIERS,
     Candidate,
     SwingSearch,
@@ -126,10 +127,10 @@ def _family(d: DrivenRun, m: _Run, search: SwingSearch, step: int | None,
         return []
 
 
-def _settled(lane: RunResult, tried: list[tuple[Candidate, RunResult | None]]) -> bool:
+def _settled(lane: RunResult, tried: list[tuple[Candidate, Clearance | None]]) -> bool:
     """Whether a run's search may stop: a candidate is clear, or keeps the body on the
     pavement in a better tier than the lane path's (a wider swing would reach further)."""
-    best = max((tier(r.clearance) for _, r in tried if r is not None), default=0)
+    best = max((tier(c) for _, c in tried if c is not None), default=0)
     return best == len(TIERS) - 1 or best > max(1, tier(lane.clearance))
 
 
@@ -153,13 +154,17 @@ def swing_pass(
         d.lane_result = d.result
     runs = [d for d in out if needs_swing(d)]
     measured = {id(d): m for d in runs if (m := _measure(d, paths, areas)) is not None}
-    tried: dict[int, list[tuple[Candidate, RunResult | None]]] = {id(d): [] for d in runs}
+    # every candidate driven with its clearance (None: not judged); the results only of
+    # those that may still be kept (:func:`_prune`: a run's search drives hundreds)
+    tried: dict[int, list[tuple[Candidate, Clearance | None]]] = {id(d): [] for d in runs}
+    results: dict[int, dict[int, RunResult]] = {id(d): {} for d in runs}
+    judged = 0
     count = 0
 
     def drive_all(todo: list[tuple[DrivenRun, Candidate]]) -> list[tuple[float, ...]]:
         """Drive the candidates and judge those the follower could drive; the order key of
         each (:func:`_key`)."""
-        nonlocal count
+        nonlocal count, judged
         count += len(todo)
         keys: list[tuple[float, ...]] = []
         for lo in range(0, len(todo), options.batch_size):
@@ -170,8 +175,12 @@ def swing_pass(
                 res = None
                 if not feature_reason(run, feature_mask(run, cand.window_m)):
                     res = _judged(d, cand, run, areas[d.curve.curve_id], options.offset_m)
-                    tried[id(d)].append((cand, res))
-                keys.append(_key(res, run.max_error_m))
+                    tried[id(d)].append((cand, None if res is None else res.clearance))
+                    if res is not None:
+                        judged += 1
+                        results[id(d)][len(tried[id(d)]) - 1] = res
+                        _prune(results[id(d)])
+                keys.append(_key(None if res is None else res.clearance, run.max_error_m))
         return keys
 
     def lane_of(d: DrivenRun) -> RunResult:
@@ -202,25 +211,38 @@ def swing_pass(
     before, t1, c1 = count, time.perf_counter(), time.process_time()
     refined = _refine([d for d in runs if id(d) in measured], measured, tried, lane_of,
                       drive_all, refine)
-    taken = sum(_choose(d, lane_of(d), tried[id(d)], search, refine) for d in runs)
+    taken = sum(_choose(d, lane_of(d), tried[id(d)], results[id(d)], search, refine)
+                for d in runs)
     if stats is not None:
         stats.refine_runs += refined
         stats.refine_candidates += count - before
         stats.refine_s += time.perf_counter() - t1
         stats.refine_cpu_s += time.process_time() - c1
-        stats.swing_judged += sum(1 for j in tried.values() for _, r in j if r is not None)
+        stats.swing_judged += judged
         stats.swing_s += time.perf_counter() - t0
         stats.swing_cpu_s += time.process_time() - c0
         stats.swing_candidates += count
     return taken
 
 
-def _key(result: RunResult | None, error_m: float) -> tuple[float, ...]:
+def _prune(results: dict[int, RunResult]) -> None:
+    """Drop the results of a run's candidates that can no longer be kept: of a worse tier
+    than the best so far, or short of its decisive margin by more than
+    :data:`~analysis.path_search.BETTER_BY_M` (:func:`analysis.path_search.rank` keeps a
+    path within that of the best of its tier, never one further short)."""
+    keys = {i: (tier(r.clearance), decisive_margin(r.clearance)) for i, r in results.items()}
+    top = max(keys.values())
+    for i, (t, m) in keys.items():
+        if t < top[0] or m < top[1] - BETTER_BY_M - 1e-9:
+            del results[i]
+
+
+def _key(clearance: Clearance | None, error_m: float) -> tuple[float, ...]:
     """The order of candidates in the refinement: that of :func:`rank` (the tier, then the
     decisive margin); among those the follower could not drive, the least lateral error."""
-    if result is None:
+    if clearance is None:
         return (0.0, -math.inf, -error_m)
-    return (float(tier(result.clearance)), decisive_margin(result.clearance), 0.0)
+    return (float(tier(clearance)), decisive_margin(clearance), 0.0)
 
 
 def _better(key: tuple[float, ...], than: tuple[float, ...], by_m: float) -> bool:
@@ -244,7 +266,7 @@ def _hopeless(key: tuple[float, ...], done: int, refine: RefineSearch) -> bool:
 
 
 def _refine(runs: list[DrivenRun], measured: dict[int, _Run],
-            tried: dict[int, list[tuple[Candidate, RunResult | None]]],
+            tried: dict[int, list[tuple[Candidate, Clearance | None]]],
             lane_of: Callable[[DrivenRun], RunResult], drive_all: _Driver,
             refine: RefineSearch) -> int:
     """The search of :mod:`analysis.path_refine` for every run whose best path so far
@@ -255,9 +277,8 @@ def _refine(runs: list[DrivenRun], measured: dict[int, _Run],
     firsts: list[tuple[DrivenRun, Candidate]] = []
     knots: list[Knots] = []
     for d in runs:
-        results = [lane_of(d).clearance] + [r.clearance if r else None for _, r in tried[id(d)]]
-        best = rank(results)
-        c = results[best]
+        so_far = [lane_of(d).clearance] + [c for _, c in tried[id(d)]]
+        c = so_far[rank(so_far)]
         if tier(c) > 1 or (c is not None and tier(c) == 1
                            and c.paved_margin_m < -refine.max_loss_m):
             continue
@@ -324,21 +345,22 @@ def _compass(starts: list[tuple[DrivenRun, tuple[tuple[float, ...], Knots]]],
                 state[i] = (d, knots, step / 2.0, key)
 
 
-def _near_steps(tried: list[tuple[Candidate, RunResult | None]], steps: int) -> list[int]:
+def _near_steps(tried: list[tuple[Candidate, Clearance | None]], steps: int) -> list[int]:
     """The sizes whose other apex cuts are tried: the best held candidate's and its
     neighbours' (every size when no held one could be judged)."""
     held = [(c, r) for c, r in tried if c.shape == "held"]
-    best = rank([None] + [r.clearance if r else None for _, r in held])
+    best = rank([None] + [c for _, c in held])
     if not best:
         return list(range(1, steps + 1))
     k = held[best - 1][0].step
     return [j for j in (k - 1, k, k + 1) if 1 <= j <= steps]
 
 
-def _choose(d: DrivenRun, lane: RunResult, tried: list[tuple[Candidate, RunResult | None]],
-            search: SwingSearch, refine: RefineSearch) -> bool:
-    """Keep the best of the lane path and the tried candidates; whether a swung one won."""
-    best = rank([lane.clearance] + [r.clearance if r is not None else None for _, r in tried])
+def _choose(d: DrivenRun, lane: RunResult, tried: list[tuple[Candidate, Clearance | None]],
+            results: dict[int, RunResult], search: SwingSearch, refine: RefineSearch) -> bool:
+    """Keep the best of the lane path and the tried candidates (``results``: the results of
+    those that may be kept, by their place in ``tried``); whether a swung one won."""
+    best = rank([lane.clearance] + [c for _, c in tried])
     if best == 0:
         if lane.verdict == "cannot-turn":
             d.result = dataclasses.replace(lane, clearance=dataclasses.replace(
@@ -348,8 +370,7 @@ def _choose(d: DrivenRun, lane: RunResult, tried: list[tuple[Candidate, RunResul
                 f"lines from {-refine.lower.start_m:g} m inside to {refine.upper.start_m:g} m "
                 "outside the lane centre line) is within its lock and steering rate"))
         return False
-    cand, res = tried[best - 1]
-    assert res is not None  # rank never picks a candidate that was not judged
+    cand, res = tried[best - 1][0], results[best - 1]  # kept: never pruned (_prune)
     why = swing_reason(cand.amplitude_m, cand.apex_cut, res.clearance, cand.how)
     why += f" (on the lane centre line: {lane.verdict}"
     if lane.verdict != "cannot-turn":

@@ -82,22 +82,22 @@ def test_the_path_kept_reaches_least_into_the_opposing_lanes(tmp_path, netconver
     seen = []
     choose = swing._choose
 
-    def spy(d, lane, tried, search, refine):
+    def spy(d, lane, tried, results, search, refine):
         seen.append(list(tried))
-        return choose(d, lane, tried, search, refine)
+        return choose(d, lane, tried, results, search, refine)
 
     monkeypatch.setattr(swing, "_choose", spy)
     net, c = _turn(tmp_path, netconvert, "two_way_least", 3.0, 1, 1, 3.2)
     r = _drive(net, table.vehicle("P"), c)
     assert r.encroaches_on == "opposing lanes"
     (tried,) = seen
-    paved = [res.clearance for _, res in tried if res is not None and tier(res.clearance) == 2]
+    paved = [c for _, c in tried if c is not None and tier(c) == 2]
     assert paved
     kept = r.result.clearance.roadway_margin_m
     assert kept >= max(p.roadway_margin_m for p in paved) - BETTER_BY_M
     # rounds: nothing larger than the round that found the first paved path was driven
     rounds = [cand.step for cand, res in tried]
-    first = min(cand.step for cand, res in tried if res is not None and tier(res.clearance) >= 2)
+    first = min(cand.step for cand, c in tried if c is not None and tier(c) >= 2)
     assert max(rounds) == first
 
 
@@ -142,3 +142,28 @@ def test_the_refinement_is_not_tried_far_off_the_pavement(tmp_path, netconvert, 
               stats=stats)[0]
     assert r.verdict == "fails" and r.result.clearance.paved_margin_m < -1.0
     assert (stats.refine_runs, stats.refine_candidates) == (0, 0)
+
+
+def test_only_results_that_may_be_kept_are_held_and_the_choice_is_the_same(
+        tmp_path, netconvert, table, monkeypatch):
+    """A run's search drives hundreds of lines; the results of those that can no longer be
+    kept are dropped as it goes, and the path kept is the one keeping them all gives."""
+    import networks.sumo.swing as swing
+
+    net, c = _turn(tmp_path, netconvert, "bus_prune", 3.0, 2, 0, 3.5)
+    bus = table.vehicle("CITY-BUS")
+    sizes = []
+    choose = swing._choose
+
+    def spy(d, lane, tried, results, search, refine):
+        sizes.append((len(tried), len(results)))
+        return choose(d, lane, tried, results, search, refine)
+
+    monkeypatch.setattr(swing, "_choose", spy)
+    pruned = drive(net, [(bus, c)], options=DriveOptions(use_sumo=False))[0]
+    monkeypatch.setattr(swing, "_prune", lambda results: None)
+    kept_all = drive(net, [(bus, c)], options=DriveOptions(use_sumo=False))[0]
+    (tried, held), (_, every) = sizes
+    assert tried > 50 and held < tried / 10 and every > held
+    assert (pruned.verdict, pruned.reason, pruned.result.clearance.margin_m) == (
+        kept_all.verdict, kept_all.reason, kept_all.result.clearance.margin_m)
