@@ -44,6 +44,7 @@ import numpy as np
 
 from analysis.tracking import TrackingSettings
 from networks.curves import DEFAULT_KINDS, Curve, CurveOptions
+from networks.permissions import permits
 from networks.reader import Network, read_network
 from networks.selection import check_junctions, load_selected
 from networks.sumo.driver import (
@@ -198,8 +199,17 @@ def run(args: argparse.Namespace) -> int:
                              f"({selection.describe()})")
         if staging is not None and args.fcd:
             options = replace(options, fcd_output=staging / "fcd.xml")
-        runs = drive_in_workers(net, [(v, c) for v in vehicles for c in curves], settings,
-                                options, args.workers)
+        # as in a study: a vehicle drives only the curves whose lanes admit its SUMO class
+        pairs = [(v, c) for v in vehicles for c in curves]
+        allowed = [(v, c) for v, c in pairs if permits(net, c, v.vclass)]
+        if not allowed:
+            raise InputError(f"{args.net}: no selected curve admits the vehicle(s)' SUMO "
+                             f"class ({', '.join(sorted({v.vclass for v in vehicles}))}); "
+                             f"nothing to drive")
+        if len(allowed) < len(pairs):
+            print(f"{len(pairs) - len(allowed)} run(s) not permitted (the curve's lanes do not "
+                  f"admit the vehicle's SUMO class) and not driven")
+        runs = drive_in_workers(net, allowed, settings, options, args.workers)
         records = run_records(runs, table, options.offset_m, network_name(Path(net.path)))
         rows = [result_row(r, rec) for r, rec in zip(runs, records, strict=True)]
         print_summary(rows, args.limit)

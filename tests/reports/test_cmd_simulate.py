@@ -265,3 +265,38 @@ def test_results_carry_the_design_feedback_of_clearance_report(tmp_path):
             assert float(r["overreach_station_m"]) >= 0
     assert {r["serves_encroaching_up_to"] for r in sim.values()} >= {"CITY-BUS"}
     assert any(r["verdict"] == "fails" for r in sim.values())
+
+
+def test_a_curve_whose_lanes_do_not_admit_the_vehicle_is_not_driven(tmp_path, capsys):
+    # as in a study: P is not driven from a bus-only street (SUMO would refuse to place
+    # it, an error row), the bus is, and the summary says how many runs were left out
+    from networks.sumo.tools import netconvert_plain
+
+    try:
+        net = netconvert_plain(
+            tmp_path, "bus",
+            nodes=('<nodes><node id="W" x="-60" y="0"/><node id="X" x="0" y="0" '
+                   'type="priority"/><node id="N" x="0" y="60"/><node id="S" x="0" y="-60"/>'
+                   '</nodes>'),
+            edges=('<edges><edge id="WX" from="W" to="X" numLanes="1" allow="bus"/>'
+                   '<edge id="SX" from="S" to="X" numLanes="1"/>'
+                   '<edge id="XN" from="X" to="N" numLanes="1"/></edges>'),
+            options=["--no-turnarounds"])
+    except FileNotFoundError as exc:  # pragma: no cover - depends on the install
+        pytest.skip(f"netconvert is not available: {exc}")
+    out = tmp_path / "sim"
+    assert main(["simulate", "-n", str(net), "--vehicle", "P", "--vehicle", "CITY-BUS",
+                 "--no-sumo", "-o", str(out)]) == 0
+    rows = _results(out)
+    assert ("CITY-BUS", "turn:X:WX_0->XN_0") in rows
+    assert ("P", "turn:X:WX_0->XN_0") not in rows
+    assert ("P", "turn:X:SX_0->XN_0") in rows
+    assert all(r["verdict"] != "error" for r in rows.values())
+    assert "1 run(s) not permitted" in capsys.readouterr().out
+    # only P on the bus street: nothing to drive is bad input, named
+    status = main(["simulate", "-n", str(net), "--vehicle", "P", "--curve",
+                   "turn:X:WX_0->XN_0", "-o", str(tmp_path / "none")])
+    assert status == 2
+    err = capsys.readouterr().err
+    assert "no selected curve admits" in err and "passenger" in err
+    assert not (tmp_path / "none" / "results.csv").exists()
