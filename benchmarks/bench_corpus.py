@@ -11,6 +11,9 @@ printed with its exit status and the last line of its error output.
 
 With ``--lane-too`` each network gets a second row, the same report with ``--lane-only``
 (no swung paths): the time the search of swung paths costs, and the verdicts without it.
+The reports run with ``-v``, and ``study s`` is the time their log gives for the study
+(the runs, without reading and the documents); the last lines add the times up over the
+corpus and give the ratio of the search's totals to those of the lane alone.
 
 Run: ``python benchmarks/bench_corpus.py [--vehicle NAME ...] [--workers N] [--only TEXT]
 [--lane-too]``
@@ -20,6 +23,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import re
 import sys
 import tempfile
 from collections import Counter
@@ -43,21 +47,33 @@ def main() -> None:
     vehicles = args.vehicle or ["P", "WB-62"]
     nets = [p for p in corpus() if not args.only or any(t in str(p) for t in args.only)]
     print(f"{len(nets)} networks x {', '.join(vehicles)}")
-    header = ("| network | MB | junctions | curves by kind | time s | peak MB | runs/s | "
+    header = ("| network | MB | junctions | curves by kind | time s | study s | peak MB | runs/s | "
               + " | ".join(f"{v} ct/f/e/c/err (bad %)" for v in vehicles) + " |")
     print(header)
     print("|" + "---|" * (header.count("|") - 1))
+    totals = {"search": [0.0, 0.0], "lane": [0.0, 0.0]}  # wall s, study s
     for net in nets:
-        _one(net, vehicles, args.workers, [])
-        if args.lane_too:  # the same report judged on the lanes only: the search's cost
-            _one(net, vehicles, args.workers, ["--lane-only"])
+        for mode, extra in [("search", []), ("lane", ["--lane-only"])]:
+            if mode == "lane" and not args.lane_too:
+                continue
+            wall, study = _one(net, vehicles, args.workers, extra)
+            totals[mode][0] += wall
+            totals[mode][1] += study
+    print(f"total with the search: {totals['search'][0]:.0f} s, study {totals['search'][1]:.0f} s")
+    if args.lane_too:
+        lane_wall, lane_study = totals["lane"]
+        print(f"total on the lanes alone: {lane_wall:.0f} s, study {lane_study:.0f} s")
+        if lane_wall and lane_study:
+            print(f"search / lane: {totals['search'][0] / lane_wall:.2f} x whole reports, "
+                  f"{totals['search'][1] / lane_study:.2f} x studies")
 
 
-def _one(net: Path, vehicles: list[str], workers: int | None, extra: list[str]) -> None:
-    """One row: the report of ``net`` (with the ``extra`` options)."""
+def _one(net: Path, vehicles: list[str], workers: int | None,
+         extra: list[str]) -> tuple[float, float]:
+    """One row: the report of ``net`` (with the ``extra`` options); its wall and study s."""
     with tempfile.TemporaryDirectory() as tmp:
         out = Path(tmp) / "report"
-        cmd = clearance_cmd("report", "-n", str(net), "-o", str(out), *extra)
+        cmd = clearance_cmd("report", "-v", "-n", str(net), "-o", str(out), *extra)
         for v in vehicles:
             cmd += ["--vehicle", v]
         if workers:
@@ -67,9 +83,11 @@ def _one(net: Path, vehicles: list[str], workers: int | None, extra: list[str]) 
         size = net.stat().st_size / 1e6
         if m.returncode != 0 or not (out / "clearance.csv").is_file():
             last = (m.stderr.strip().splitlines() or ["(no message)"])[-1]
-            print(f"| {name} | {size:.1f} | | | {m.wall_s:.0f} | {m.peak_bytes / 1e6:.0f} "
+            print(f"| {name} | {size:.1f} | | | {m.wall_s:.0f} | | {m.peak_bytes / 1e6:.0f} "
                   f"| | exit {m.returncode}: {last[:120]} |")
-            return
+            return m.wall_s, 0.0
+        logged = re.search(r"study: \d+ runs in ([0-9.]+) s", m.stderr)
+        study_s = float(logged.group(1)) if logged else 0.0
         summary = json.loads((out / "summary.json").read_text())
         counts, n = verdict_counts(out / "clearance.csv")
         kinds: Counter[str] = Counter()
@@ -93,8 +111,9 @@ def _one(net: Path, vehicles: list[str], workers: int | None, extra: list[str]) 
         junctions = nets_in[0].get("junctions", "") if nets_in else ""
         kind_text = ", ".join(f"{k} {c}" for k, c in sorted(kinds.items()))
         print(f"| {name} | {size:.1f} | {junctions} | {kind_text} | {m.wall_s:.0f} | "
-              f"{m.peak_bytes / 1e6:.0f} | {n / m.wall_s:.0f} | " + " | ".join(cells) + " |",
-              flush=True)
+              f"{study_s:.1f} | {m.peak_bytes / 1e6:.0f} | {n / m.wall_s:.0f} | "
+              + " | ".join(cells) + " |", flush=True)
+        return m.wall_s, study_s
 
 
 if __name__ == "__main__":
