@@ -92,9 +92,10 @@ from analysis.polyline import Path
 from analysis.swing_room import outside_sign
 from vehicles.errors import InputError
 
-__all__ = ["BETTER_BY_M", "Candidate", "ENCROACHED", "FITTED_MIN_M", "JOG_MAX_DEG", "MIN_FOLD",
-           "REVERSE_RADIUS_M", "SwingSearch", "TIERS", "candidates",
-           "decisive_margin", "encroaches_on", "rank", "swing_reason", "tier"]
+__all__ = ["BETTER_BY_M", "Candidate", "ENCROACHED", "FITTED_MIN_M", "JOG_MAX_DEG",
+           "LOOPED_EXCESS_DEG", "MIN_FOLD", "REVERSE_RADIUS_M", "SwingSearch", "TIERS",
+           "candidates", "decisive_margin", "encroaches_on", "excess_turning_deg", "rank",
+           "swing_reason", "tier"]
 
 FloatArray = NDArray[np.float64]
 
@@ -109,6 +110,11 @@ REVERSE_RADIUS_M = 50.0
 
 JOG_MAX_DEG = 30.0
 """A feature turning no more than this overall is a *jog*, a sideways step (degrees)."""
+
+LOOPED_EXCESS_DEG = 60.0
+"""A junction turn whose centre line turns this much more, back and forth, than its net
+turn (:func:`excess_turning_deg`) is *looped*: SUMO drew its internal lane with a kink or a
+loop that no driver follows, and the search also tries the direct corner cuts."""
 
 MIN_FOLD = 0.2
 """A candidate is left out where ``1 - kappa d`` (the offset's stretch) falls to this."""
@@ -279,11 +285,49 @@ class Candidate:
                       if self.apex_cut > 0 else " from the lane centre line")
 
 
+def excess_turning_deg(path: Path, feature_m: tuple[float, float],
+                       turn_angle_deg: float) -> float:
+    """How much more the path turns within the feature, counting every turn whichever its
+    hand, than the feature's turn ``turn_angle_deg`` (from the heading in to the heading
+    out; degrees): about 0 for a turn of one hand, twice the turn back for a line that turns
+    back on itself, 360 for a loop.
+
+    Examples
+    --------
+    A quarter circle turns 90 degrees and nothing more; a 4 m-radius loop drawn into a
+    straight line turns 360 degrees, all of it in excess of the straight line's 0:
+
+    >>> from analysis.polyline import prepare_path
+    >>> a = np.radians(np.linspace(90, 0, 31))
+    >>> arc = np.c_[4 * np.cos(a), 20 + 4 * np.sin(a)]
+    >>> p = prepare_path(np.vstack([[(-20.0, 24.0)], arc, [(4.0, 0.0)]]), 0.1)
+    >>> round(excess_turning_deg(p, (19.0, 27.3), -90.0))
+    0
+    >>> t = np.radians(np.linspace(-90, 270, 73))
+    >>> loop = np.c_[4 * np.cos(t), 4 + 4 * np.sin(t)]
+    >>> q = prepare_path(np.vstack([[(-20.0, 0.0)], loop, [(20.0, 0.0)]]), 0.1)
+    >>> round(excess_turning_deg(q, (15.0, 50.0), 0.0) / 10) * 10
+    360
+
+    A feature with fewer than two points has none:
+
+    >>> excess_turning_deg(p, (5.0, 5.0), -90.0)
+    0.0
+    """
+    s = path.station_m
+    inside = (s >= feature_m[0]) & (s <= feature_m[1])
+    if int(inside.sum()) < 2:
+        return 0.0
+    turns = np.diff(np.unwrap(path.heading_rad[inside]))
+    return float(np.degrees(np.sum(np.abs(turns))) - abs(turn_angle_deg))
+
+
 def candidates(path: Path, feature_m: tuple[float, float], turn_angle_deg: float,
                search: SwingSearch | None = None, room_m: float = math.inf,
                reach_m: float | None = None,
                rooms_m: tuple[float, float, float] | None = None,
-               inside_room_m: float = 0.0, step: int | None = None) -> list[Candidate]:
+               inside_room_m: float = 0.0, step: int | None = None,
+               looped: bool = False) -> list[Candidate]:
     """The swung paths of one run, in the search's order (see the module docstring).
 
     With ``step`` only those of that size ``k`` (:attr:`Candidate.step`).
@@ -294,7 +338,9 @@ def candidates(path: Path, feature_m: tuple[float, float], turn_angle_deg: float
     With ``rooms_m`` (the outward room at the feature's start, middle and end,
     :func:`analysis.swing_room.outside_rooms_m`) and :attr:`SwingSearch.shaped`, the
     *fitted* shapes follow; with ``inside_room_m`` (the room toward the inside at the
-    middle) the *inside* ones.
+    middle) the *inside* ones. A ``looped`` turn (:data:`LOOPED_EXCESS_DEG`) gets the corner
+    cuts whatever its inside room: each leaves the centre line before the loop and rejoins it
+    after, on a curve that follows the turn's net course.
 
     Examples
     --------
@@ -372,6 +418,7 @@ def candidates(path: Path, feature_m: tuple[float, float], turn_angle_deg: float
                                       f"{path.name} ({label})")
         out.append(Candidate(float(a0), float(cut), d, p, window, smap, shape, float(a1),
                              step=k))
+    corner = False
     if search.shaped and inside_room_m > search.min_amplitude_m:
         k_in = path.curvature_1_m[(s >= feature_m[0]) & (s <= feature_m[1])]
         jog = abs(turn_angle_deg) <= JOG_MAX_DEG
@@ -382,15 +429,19 @@ def candidates(path: Path, feature_m: tuple[float, float], turn_angle_deg: float
                                 step)
         if not corner or jog:  # a jog may also be driven as its step, eased inward
             out += _apex_bumps(path, feature_m, side, search, inside_room_m, reach_m, step)
+    if search.shaped and looped and not corner:  # the cuts across the loop, on any side
+        out += _corner_cuts(path, feature_m, side, search, math.inf, reach_m, step=step,
+                            either_side=True)
     return out
 
 
 def _corner_cuts(path: Path, feature_m: tuple[float, float], side: float, search: SwingSearch,
                  inside_room_m: float, reach_m: float | None, jog: bool = False,
-                 step: int | None = None) -> list[Candidate]:
+                 step: int | None = None, either_side: bool = False) -> list[Candidate]:
     """The *inside* candidates of one corner: :func:`corner_cut` 2, 4, 8, 16 m out; a jog's
     (docs/design.md §6) two shortest one-sided (2 m before to 16 m after, and the reverse);
-    with ``step``, the ``step``-th only."""
+    with ``step``, the ``step``-th only. ``either_side``: the cut's depth is its largest
+    distance from the centre line on either side (a looped turn's)."""
     out = []
     s = path.station_m
     leads = [search.inside_step_m * 2.0 ** (k - 1) for k in range(1, search.steps + 1)]
@@ -410,7 +461,7 @@ def _corner_cuts(path: Path, feature_m: tuple[float, float], side: float, search
                                         name=f"{path.name} (corner cut {label})")
         ls = lane.station_m
         inner = (ls >= feat[0]) & (ls <= feat[1])
-        cut = np.abs(d[inner]) if jog else -side * d[inner]
+        cut = np.abs(d[inner]) if jog or either_side else -side * d[inner]
         depth = float(np.max(cut)) if inner.any() else 0.0
         if p is lane or depth <= search.min_amplitude_m or (depth > inside_room_m and not jog):
             continue

@@ -51,11 +51,13 @@ from analysis.path_refine import (
 )
 from analysis.path_search import (
     BETTER_BY_M,
+    LOOPED_EXCESS_DEG,
     TIERS,
     Candidate,
     SwingSearch,
     candidates,
     decisive_margin,
+    excess_turning_deg,
     rank,
     swing_reason,
     tier,
@@ -87,6 +89,7 @@ class _Run:
     rooms_m: tuple[float, float, float] | None
     inside_m: float
     reach_m: float
+    looped: bool = False
 
 
 def _measure(d: DrivenRun, paths: dict[str, Path], areas: dict[str, Areas]) -> _Run | None:
@@ -106,9 +109,13 @@ def _measure(d: DrivenRun, paths: dict[str, Path], areas: dict[str, Areas]) -> _
         log.info("%s: no swung paths: %s", c.curve_id, exc)
         return None
     room = max(0.0, min(rooms)) if rooms else 0.0
+    # a junction's internal lane drawn with a loop or kink (not a roundabout's ring, whose
+    # turns back and forth are the road's)
+    looped = c.kind == "turn" and (excess_turning_deg(path, feature, c.turn_angle_deg)
+                                   > LOOPED_EXCESS_DEG)
     # all a judged sample's body covers
     return _Run(path, feature, c.turn_angle_deg, room, rooms, inside,
-                d.vehicle.overall_length_m + 2.0)
+                d.vehicle.overall_length_m + 2.0, looped)
 
 
 def _family(d: DrivenRun, m: _Run, search: SwingSearch, step: int | None,
@@ -121,7 +128,7 @@ def _family(d: DrivenRun, m: _Run, search: SwingSearch, step: int | None,
                                                      search, room_m, m.reach_m, step=step)]
         return [(d, cand) for cand in candidates(
             m.path, m.feature_m, m.turn_angle_deg, search, m.room_m, m.reach_m, m.rooms_m,
-            m.inside_m, step)]
+            m.inside_m, step, m.looped)]
     except (InputError, shapely.errors.ShapelyError) as exc:  # no candidates
         log.info("%s: no swung paths: %s", d.curve.curve_id, exc)
         return []

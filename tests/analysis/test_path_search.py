@@ -150,3 +150,30 @@ def test_a_jog_is_cut_into_one_s_curve_a_car_can_follow(car):
     assert all(c.inside_m <= 0.5 for c in candidates(
         corner, feat, -90.0, room_m=0.3, rooms_m=(0.3, 6.0, 0.3), inside_room_m=0.5)
         if c.shape == "inside")
+
+
+def test_a_looped_junction_lane_gets_direct_cuts_that_a_car_can_drive(car):
+    # a right turn whose internal lane SUMO drew with a 2 m loop (the junction shape of
+    # an OSM network): its centre line turns 360 degrees more than the turn; the looped
+    # search adds corner cuts that leave the line before the loop and rejoin it after,
+    # and the car drives the best of them where it cannot follow the loop
+    from analysis.path_search import LOOPED_EXCESS_DEG, excess_turning_deg
+    from analysis.polyline import prepare_path
+
+    t = np.radians(np.linspace(90, 450, 91))
+    loop = np.c_[2 * np.cos(t), -2 + 2 * np.sin(t)]  # one turn round (0, -2), ends at (0, 0)
+    a = np.radians(np.linspace(90, 0, 31))
+    corner = np.c_[12 * np.cos(a), -12 + 12 * np.sin(a)]  # right turn, radius 12
+    xy = np.vstack([[(-30.0, 0.0)], loop, corner[1:], [(12.0, -40.0)]])
+    path = prepare_path(xy, 0.1, smooth=True)
+    feature = (28.0, 30.0 + 4 * math.pi + 6 * math.pi + 2.0)
+    assert excess_turning_deg(path, feature, -90.0) > LOOPED_EXCESS_DEG
+    plain = candidates(path, feature, -90.0, SwingSearch(), inside_room_m=0.0)
+    looped = candidates(path, feature, -90.0, SwingSearch(), inside_room_m=0.0, looped=True)
+    cuts = [c for c in looped if c.shape == "inside"]
+    assert not [c for c in plain if c.shape == "inside"] and cuts
+    assert len(looped) == len(plain) + len(cuts)
+    # the lane's loop is far tighter than the lock; the longest cut is not
+    lane = simulate_batch([car], [path])[0]
+    best = simulate_batch([car], [cuts[-1].path])[0]
+    assert lane.cannot_turn and not best.cannot_turn
