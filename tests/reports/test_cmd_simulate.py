@@ -267,23 +267,11 @@ def test_results_carry_the_design_feedback_of_clearance_report(tmp_path):
     assert any(r["verdict"] == "fails" for r in sim.values())
 
 
-def test_a_curve_whose_lanes_do_not_admit_the_vehicle_is_not_driven(tmp_path, capsys):
+def test_a_curve_whose_lanes_do_not_admit_the_vehicle_is_not_driven(tmp_path, capsys,
+                                                                    bus_street_net):
     # as in a study: P is not driven from a bus-only street (SUMO would refuse to place
     # it, an error row), the bus is, and the summary says how many runs were left out
-    from networks.sumo.tools import netconvert_plain
-
-    try:
-        net = netconvert_plain(
-            tmp_path, "bus",
-            nodes=('<nodes><node id="W" x="-60" y="0"/><node id="X" x="0" y="0" '
-                   'type="priority"/><node id="N" x="0" y="60"/><node id="S" x="0" y="-60"/>'
-                   '</nodes>'),
-            edges=('<edges><edge id="WX" from="W" to="X" numLanes="1" allow="bus"/>'
-                   '<edge id="SX" from="S" to="X" numLanes="1"/>'
-                   '<edge id="XN" from="X" to="N" numLanes="1"/></edges>'),
-            options=["--no-turnarounds"])
-    except FileNotFoundError as exc:  # pragma: no cover - depends on the install
-        pytest.skip(f"netconvert is not available: {exc}")
+    net = bus_street_net
     out = tmp_path / "sim"
     assert main(["simulate", "-n", str(net), "--vehicle", "P", "--vehicle", "CITY-BUS",
                  "--no-sumo", "-o", str(out)]) == 0

@@ -22,21 +22,8 @@ def _realnet(name: str) -> Path:
     pytest.skip(f"{name} is not in ../shared/realnets")
 
 
-def test_curves_a_vehicle_may_not_use_are_not_permitted_never_run(tmp_path):
-    from networks.sumo.tools import netconvert_plain
-
-    try:
-        net = netconvert_plain(
-            tmp_path, "bus",
-            nodes=('<nodes><node id="W" x="-60" y="0"/><node id="X" x="0" y="0" '
-                   'type="priority"/><node id="N" x="0" y="60"/><node id="S" x="0" y="-60"/>'
-                   '</nodes>'),
-            edges=('<edges><edge id="WX" from="W" to="X" numLanes="1" allow="bus"/>'
-                   '<edge id="SX" from="S" to="X" numLanes="1"/>'
-                   '<edge id="XN" from="X" to="N" numLanes="1"/></edges>'),
-            options=["--no-turnarounds"])
-    except FileNotFoundError as exc:  # pragma: no cover - depends on the install
-        pytest.skip(f"netconvert is not available: {exc}")
+def test_curves_a_vehicle_may_not_use_are_not_permitted_never_run(tmp_path, bus_street_net):
+    net = bus_street_net
     table = load_tables([bundled_table("aashto_green_book")], names=["P", "CITY-BUS"])
     study = run_study([net], table, method="analytic")
     ran = {(r.vehicle, r.curve_id) for r in study.records}
