@@ -161,8 +161,9 @@ def swing_pass(
         d.lane_result = d.result
     runs = [d for d in out if needs_swing(d)]
     measured = {id(d): m for d in runs if (m := _measure(d, paths, areas)) is not None}
-    # every candidate driven with its clearance (None: not judged); the results only of
-    # those that may still be kept (:func:`_prune`: a run's search drives hundreds)
+    # every candidate the follower could drive, with its clearance (None: it could not be
+    # judged); the results only of those that may still be kept (:func:`_prune`: a run's
+    # search drives hundreds)
     tried: dict[int, list[tuple[Candidate, Clearance | None]]] = {id(d): [] for d in runs}
     results: dict[int, dict[int, RunResult]] = {id(d): {} for d in runs}
     judged = 0
