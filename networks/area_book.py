@@ -37,7 +37,7 @@ import shapely
 from analysis.clearance import Areas
 from analysis.levels import LEVEL_BAND_M, LEVEL_STEP_M, Level, band_pieces, is_flat, level_slots
 from networks.area_groups import AreaCurve, AreaIndex, BatchPlan
-from networks.reader import Network
+from networks.model import Network
 
 __all__ = ["AreaBook", "BATCH_CURVES", "MAX_BATCHES", "curve_levels", "network_is_flat"]
 

@@ -28,8 +28,8 @@ from typing import Any, Protocol
 
 import numpy as np
 
+from networks.model import ROAD_VCLASSES, Network
 from networks.paths import junction_of_internal, via_lanes
-from networks.reader import ROAD_VCLASSES, Network
 
 __all__ = ["AreaCurve", "AreaIndex", "BatchPlan", "is_road", "junctions_of", "plain_edges_of"]
 

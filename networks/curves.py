@@ -53,6 +53,7 @@ from networks.geometry import (
     turns_back,
     unwrap,
 )
+from networks.model import ROAD_VCLASSES, Network
 from networks.paths import (
     PathPlan,
     junction_of_internal,
@@ -62,7 +63,7 @@ from networks.paths import (
     via_lanes,
 )
 from networks.profiles import Stations, profiles
-from networks.reader import ROAD_VCLASSES, Network, gc_paused
+from networks.reader import gc_paused
 from vehicles.errors import InputError
 
 if TYPE_CHECKING:
@@ -319,7 +320,7 @@ def find_turns(
     ``uturns``, one ``uturn`` per U-turn (``dir="t"`` or :func:`turns_back`) instead."""
     kind = "uturn" if uturns else "turn"
     if not net.has_internal_lanes:
-        if uturns:
+        if uturns or not net.connections:  # nothing to warn of on a network without any
             return
         log.warning(
             "%s: built without internal lanes (--no-internal-links): junction turns have no "

@@ -14,7 +14,7 @@ import numpy as np
 
 from analysis.vertical import suspect_points, without_points
 from networks.geometry import arc_length
-from networks.reader import Network
+from networks.model import Network
 
 __all__ = ["drop_suspect_elevation"]
 

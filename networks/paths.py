@@ -17,8 +17,8 @@ from itertools import compress
 import numpy as np
 
 from networks.geometry import MIN_CHORD_M, cut_polyline, radius_from_curvature
+from networks.model import ROAD_VCLASSES, Connection, Network
 from networks.profiles import profiles
-from networks.reader import ROAD_VCLASSES, Connection, Network
 
 __all__ = ["EXTEND_DIRECTIONS", "LEAD_KEEP_M", "LEAD_MIN_RADIUS_M", "MAX_EXTENSION_LANES",
            "NOT_ROADS", "Path", "PathPlan", "build_path", "drivable", "extend_back",

@@ -7,7 +7,7 @@ from __future__ import annotations
 
 from typing import Protocol
 
-from networks.reader import Network
+from networks.model import Network
 
 __all__ = ["permits", "permitted_lanes"]
 

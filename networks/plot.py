@@ -9,7 +9,8 @@ import numpy as np
 import shapely
 
 from networks.areas import lane_polygons
-from networks.reader import Network, read_network
+from networks.model import Network
+from networks.reader import read_network
 
 __all__ = ["EDGE_OF_PAVEMENT", "JUNCTION", "LANE_LINE", "MAX_MARKED_LANES", "NON_ROAD", "PAVEMENT",
            "fill_geometry", "nice_scale_m", "pavement_area", "plot_plan", "save_plan"]

@@ -16,7 +16,7 @@ from collections.abc import Iterator
 from pathlib import Path
 from typing import BinaryIO
 
-from vehicles.errors import InputError
+from vehicles.errors import InputError, LimitError
 from vehicles.files import env_limit, open_regular
 
 __all__ = ["DEFAULT_MAX_BYTES", "DEFAULT_MAX_ELEMENTS", "MAX_ELEMENTS_ENV", "MAX_MB_ENV",
@@ -61,10 +61,10 @@ def max_elements() -> int:
     return env_limit(MAX_ELEMENTS_ENV, DEFAULT_MAX_ELEMENTS)
 
 
-def too_big(path: str | os.PathLike[str], what: str, limit: int, env: str) -> InputError:
+def too_big(path: str | os.PathLike[str], what: str, limit: int, env: str) -> LimitError:
     """The error for a file over one of the caps: what was exceeded, and how to raise it."""
     shown = f"{limit / 1e6:g} MB" if env == MAX_MB_ENV else f"{limit:,} elements"
-    return InputError(
+    return LimitError(
         f"{path}: refused: {what} exceeds the limit of {shown}, far more than a plausible "
         f"network needs (a corrupt file or a decompression bomb?); to read it anyway, set "
         f"the environment variable {env} higher"

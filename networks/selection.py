@@ -32,7 +32,7 @@ import numpy as np
 
 from networks.curves import KINDS, Curve, CurveOptions, extract_curves
 from networks.geometry import cut_polyline
-from networks.reader import Network
+from networks.model import Network
 from vehicles.errors import InputError
 
 __all__ = ["BBox", "Selection", "check_junctions", "feature_line", "in_bbox", "load_selected",

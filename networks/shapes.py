@@ -9,6 +9,7 @@ array([3. , 4. , 1.5])
 from __future__ import annotations
 
 import warnings
+from collections.abc import Callable
 from itertools import repeat
 
 import numpy as np
@@ -50,20 +51,29 @@ def parse_shape(text: str) -> np.ndarray:
 
 
 def parse_shapes(
-    texts: list[str], names: list[str] | None = None, what: str = "shape"
+    texts: list[str], names: list[str] | None = None, what: str = "shape",
+    on_bad: Callable[[int, str], None] | None = None,
 ) -> list[np.ndarray]:
     """Parse many shape strings at once (fast path: one numpy call per kind of shape).
 
     Strings that are all ``x,y`` or all ``x,y,z`` with single spaces are parsed in bulk,
     grouped by dimensionality and number of points (each group becomes one (M, N, 3)
     array whose rows are the shapes returned); others (mixed, or irregular spacing) one
-    by one with :func:`parse_shape`. Errors name ``what`` and the string's entry in
-    ``names``.
+    by one with :func:`parse_shape`. A bad shape (not numbers, a coordinate not finite or
+    beyond :data:`MAX_COORD_M`) raises :class:`~vehicles.errors.InputError` naming
+    ``what`` and the string's entry in ``names``; with ``on_bad``, it is called with the
+    string's index and the reason instead, and the shape is empty.
 
     Examples
     --------
     >>> [a.shape for a in parse_shapes(["0,0 1,1", "0,0,1 1,1,2 2,2", ""])]
     [(2, 3), (3, 3), (0, 3)]
+    >>> bad = []
+    >>> [a.shape for a in parse_shapes(["0,0 -nan,1", "0,0 1,1"], on_bad=lambda i, why:
+    ...                                 bad.append((i, why)))]
+    [(0, 3), (2, 3)]
+    >>> bad
+    [(0, "shape #1: non-finite coordinate in shape '0,0 -nan,1'")]
     """
     n = len(texts)
     length = np.fromiter(map(len, texts), np.int64, n)
@@ -79,8 +89,17 @@ def parse_shapes(
         where[indices] = np.arange(len(pool), len(pool) + len(arrays))
         pool.extend(arrays)
 
+    def one(i: int) -> np.ndarray:
+        if on_bad is None:
+            return _parse_one(texts[i], names, what, i)
+        try:
+            return _parse_one(texts[i], names, what, i)
+        except InputError as exc:
+            on_bad(i, str(exc))
+            return EMPTY_SHAPE
+
     odd = np.flatnonzero((length > 0) & (dims == 0)).tolist()
-    add(odd, [_parse_one(texts[i], names, what, i) for i in odd])
+    add(odd, [one(i) for i in odd])
     failed: dict[int, list[int]] = {2: [], 3: []}
     key = dims * (counts.max(initial=0) + 1) + counts
     order = np.argsort(key, kind="stable")[np.count_nonzero(dims == 0) :]
@@ -99,7 +118,7 @@ def parse_shapes(
             add(idx, list(block))
     for dim in (2, 3):
         bad = sorted(failed[dim])
-        add(bad, [_parse_one(texts[i], names, what, i) for i in bad])
+        add(bad, [one(i) for i in bad])
     return list(map(pool.__getitem__, where.tolist()))
 
 

@@ -36,7 +36,8 @@ from networks.area_book import curve_levels, network_is_flat
 from networks.area_groups import AreaIndex
 from networks.areas import build_areas
 from networks.curves import Curve
-from networks.reader import Network, read_network
+from networks.model import Network
+from networks.reader import read_network
 from networks.sumo.driver import DrivenRun, DriveOptions, drive
 from reports.analytic import minimum_ctr_m, run_analytic
 from reports.executor import SharedFile

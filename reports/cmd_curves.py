@@ -11,7 +11,7 @@ from collections.abc import Sequence
 from pathlib import Path
 
 from networks.curves import DEFAULT_KINDS, KINDS, Curve, CurveOptions, extract_curves
-from networks.reader import read_network
+from networks.loading import load_network
 from reports.atomic import write_text_atomic
 from reports.options import add_net_option, add_output_option
 from reports.text_table import format_table
@@ -76,7 +76,7 @@ def run(args: argparse.Namespace) -> int:
     """Read the network, extract the curves, print a summary and write the CSV."""
     if not (args.approach > 0 and math.isfinite(args.approach)):
         raise InputError(f"--approach must be a positive length in metres, not {args.approach}")
-    net = read_network(args.net)
+    net = load_network(args.net)
     options = CurveOptions(approach_length_m=args.approach)
     curves = extract_curves(net, args.kind or DEFAULT_KINDS, options, areas=False)
     rows = [curve_row(c) for c in curves]

@@ -44,8 +44,9 @@ import numpy as np
 
 from analysis.tracking import TrackingSettings
 from networks.curves import DEFAULT_KINDS, Curve, CurveOptions
+from networks.loading import load_network
+from networks.model import Network
 from networks.permissions import permits
-from networks.reader import Network, read_network
 from networks.selection import check_junctions, load_selected
 from networks.sumo.driver import (
     DrivenRun,
@@ -185,7 +186,7 @@ def run(args: argparse.Namespace) -> int:
     # the output folder is checked and locked before the network is read
     folder = output_folder(args.output, LAYOUT) if args.output is not None else nullcontext()
     with folder as staging:
-        net = read_network(args.net)
+        net = load_network(args.net)
         kinds = tuple(dict.fromkeys(args.kind or DEFAULT_KINDS))
         selection = replace(selection_of(args), kinds=kinds)
         if selection.junctions:

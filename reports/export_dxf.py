@@ -47,7 +47,7 @@ from ezdxf.enums import TextEntityAlignment
 from shapely.geometry import LineString
 
 from networks.areas import lane_polygons
-from networks.reader import Network
+from networks.model import Network
 from reports.atomic import write_text_atomic
 from reports.exports import EnvelopeRecord, checked_records, polygon_parts
 

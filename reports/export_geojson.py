@@ -26,7 +26,7 @@ import pyproj
 from pyproj.exceptions import CRSError, ProjError
 from shapely.geometry import Polygon
 
-from networks.reader import Location
+from networks.model import Location
 from reports.atomic import write_text_atomic
 from reports.exports import EnvelopeRecord, checked_records, polygon_parts
 from vehicles.errors import InputError

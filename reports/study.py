@@ -42,8 +42,9 @@ from typing import Any, cast
 import pandas as pd
 
 from networks.curves import Curve, CurveOptions
+from networks.loading import load_networks
+from networks.model import Network
 from networks.permissions import permits
-from networks.reader import Network, read_network
 from networks.selection import Selection, check_junctions, load_selected
 from reports.batch import Batch, bare, lost_batch, run_batch, split_batch
 from reports.executor import Executor, make_executor, run_isolated
@@ -55,7 +56,7 @@ from vehicles.table import VehicleTable
 from vehicles.vehicle import Vehicle
 
 __all__ = ["APPROACH_M", "BATCH_RUNS", "COLUMNS", "METHODS", "MIN_BATCH_RUNS", "VERDICT_ORDER",
-           "NetworkCurves", "RunRecord", "Study", "batch_sizes", "batches_of", "load_networks",
+           "NetworkCurves", "RunRecord", "Study", "batch_sizes", "batches_of", "study_networks",
            "network_name", "permitted", "progress_bar", "run_study"]
 
 log = logging.getLogger(__name__)
@@ -147,10 +148,11 @@ def network_name(path: Path, taken: Iterable[str] = ()) -> str:
 APPROACH_M = 30.0
 
 
-def load_networks(paths: Sequence[str | Path],
+def study_networks(paths: Sequence[str | Path],
                   selection: Selection | None = None) -> list[NetworkCurves]:
-    """Read each network and extract its curves, with :data:`APPROACH_M` lead-ins (only
-    those of ``selection``, see :mod:`networks.selection`)."""
+    """Load each network (:func:`networks.loading.load_networks`: what SUMO refuses is bad
+    input) and extract its curves, with :data:`APPROACH_M` lead-ins (only those of
+    ``selection``, see :mod:`networks.selection`)."""
     out: list[NetworkCurves] = []
     opts = CurveOptions(approach_length_m=APPROACH_M)
     unique: dict[str, Path] = {}
@@ -159,7 +161,7 @@ def load_networks(paths: Sequence[str | Path],
         if key in unique:
             log.warning("%s: named twice (as %s); studied once", p, unique[key])
         unique.setdefault(key, Path(p))
-    nets = [(path, read_network(path)) for path in unique.values()]
+    nets = list(zip(unique.values(), load_networks(list(unique.values())), strict=True))
     if selection is not None and selection.junctions:
         check_junctions(selection.junctions, [net for _, net in nets])
     for path, net in nets:
@@ -280,7 +282,7 @@ def run_study(
     if max_grade_pct is not None and not 0 < max_grade_pct <= 100:
         raise InputError(f"--max-grade-pct must be a grade in (0, 100] %, not {max_grade_pct}")
     vehicles = table.vehicles()
-    nets = load_networks(network_paths, selection)
+    nets = study_networks(network_paths, selection)
     records: list[RunRecord] = []
     refused: list[tuple[str, str, str]] = []
     allowed = {nc.name: permitted(nc, vehicles, refused) for nc in nets}

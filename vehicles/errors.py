@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-__all__ = ["InputError", "TableError"]
+__all__ = ["InputError", "LimitError", "TableError"]
 
 
 class InputError(Exception):
@@ -22,3 +22,9 @@ class TableError(InputError):
             f"{len(self.problems)} problem(s) in the vehicle table(s):\n  "
             + "\n  ".join(self.problems)
         )
+
+
+class LimitError(InputError):
+    """An input over one of the tool's own size caps (bytes, elements, rows): refused by the
+    tool before anything else is asked of it; the message names the cap and how to raise
+    it."""

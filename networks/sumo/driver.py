@@ -91,7 +91,7 @@ from analysis.polyline import Path, prepare_path
 from analysis.tracking import TrackingSettings, simulate_batch
 from networks.curves import Curve
 from networks.geometry import heading_rad_to_navigational
-from networks.reader import Network
+from networks.model import Network
 from networks.sumo.placement import (  # noqa: F401 - re-exported
     REPLAY_COMMAND,
     edge_of_lane,

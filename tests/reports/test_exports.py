@@ -22,7 +22,8 @@ from shapely.affinity import translate
 from shapely.geometry import LineString, MultiPolygon, Point, Polygon
 from shapely.ops import unary_union
 
-from networks.reader import Location, read_network
+from networks.model import Location
+from networks.reader import read_network
 from networks.sumo.tools import find_sumo_binary, sumo_home
 from reports.export_dxf import BASE_LAYERS, VERDICT_ACI, dxf_layer_name, write_dxf
 from reports.export_geojson import COORDS_LOCAL, COORDS_LONLAT, COORDS_MIXED, write_geojson

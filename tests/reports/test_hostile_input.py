@@ -43,15 +43,28 @@ def run_cli(argv: list[str], env: dict[str, str] | None = None) -> subprocess.Co
 # -- networks
 
 
-@pytest.mark.parametrize("case", sorted(damaged.CASES))
-def test_curves_refuses_every_damaged_network(tmp_path, capsys, case):
+@pytest.mark.parametrize("case", sorted(damaged.REFUSED))
+def test_curves_refuses_what_sumo_refuses_with_sumos_reason(tmp_path, capsys, case):
     path, expected = damaged.damage(case, tmp_path)
     out = tmp_path / "curves.csv"
     refused(capsys, ["curves", "-n", str(path), "-o", str(out)], expected)
     assert not out.exists()
 
 
-@pytest.mark.parametrize("case", ["via-to-a-missing-lane", "lane-width-nan",
+@pytest.mark.parametrize("case", sorted(damaged.LOADED))
+def test_curves_reads_what_sumo_loads_and_names_what_it_left_out(tmp_path, capsys, caplog,
+                                                                 case):
+    path, expected = damaged.damage(case, tmp_path)
+    out = tmp_path / "curves.csv"
+    code = main(["curves", "-n", str(path), "-o", str(out)])
+    err = capsys.readouterr().err
+    assert code == 0, err
+    warnings = [r.getMessage() for r in caplog.records if r.levelname == "WARNING"]
+    assert any(w.startswith(expected) for w in warnings), (expected, warnings)
+    assert out.exists()
+
+
+@pytest.mark.parametrize("case", ["via-to-a-missing-lane", "lane-length-nan",
                                   "roundabout-unknown-edge"])
 @pytest.mark.parametrize("command", ["report-simulate", "report-analytic", "simulate",
                                      "check"])
@@ -177,3 +190,45 @@ def test_a_vehicle_given_twice_runs_once(tmp_path, capsys):
     code = main(["vehicles", "--vehicle", "P", "--vehicle", "P", "-o", str(tmp_path / "v.csv")])
     assert code == 0
     assert (tmp_path / "v.csv").read_text().count("\nP,") == 1
+
+
+# -- ids and names as SUMO and a spreadsheet have them
+
+HOSTILE_IDS = REPO / "tests" / "data" / "sumo_corpus" / "hostile_ids.net.xml"
+HOSTILE_NAME = '<script>alert(1)</script> & "Q" a:b'
+
+
+def test_ids_with_xml_characters_are_the_networks_own(tmp_path, capsys):
+    # they were read as `&#38;`: SUMO refused the route ("Unknown edge") and the runs were errors
+    import sumolib
+
+    from networks.reader import read_network
+
+    net = read_network(HOSTILE_IDS)
+    theirs = sumolib.net.readNet(str(HOSTILE_IDS), withInternal=True)
+    assert set(net.edges) == {e.getID() for e in theirs.getEdges(withInternal=True)}
+    assert {'in&<a>:1', 'out"b\'c', "up:&"} <= set(net.edges)
+    assert set(net.junctions) == {n.getID() for n in theirs.getNodes()}
+    table = tmp_path / "t.csv"
+    bundled = (REPO / "vehicles" / "tables" / "aashto_green_book.csv").read_text().splitlines()
+    row = next(r for r in bundled if r.startswith("P,"))
+    table.write_text(bundled[0] + "\n" + f'"{HOSTILE_NAME.replace(chr(34), 2 * chr(34))}"'
+                     + row[1:] + "\n")
+    out = tmp_path / "r"
+    code = main(["report", "-n", str(HOSTILE_IDS), "-t", str(table), "-o", str(out),
+                 "--workers", "1"])
+    assert code == 0, capsys.readouterr().err
+    import pandas as pd
+
+    frame = pd.read_csv(out / "clearance.csv", keep_default_na=False)
+    assert set(frame.verdict) <= {"clear", "encroaches", "fails"}  # no error: SUMO drove them
+    assert set(frame.vehicle) == {HOSTILE_NAME}
+    assert "turn:C<x>:in&<a>:1_0->up:&_0" in set(frame.curve_id)
+    md = (out / "report.md").read_text()
+    assert "<script>" not in md and "&lt;script&gt;" in md
+    import re
+
+    prose = re.sub(r"(`+).+?\1", "", md)  # outside code spans, every < and & is escaped
+    assert "<" not in prose and not re.search(r"&(?!amp;|lt;|gt;)", prose)
+    html_text = (out / "report.html").read_text()
+    assert "<script>" not in html_text
