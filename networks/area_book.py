@@ -16,14 +16,14 @@ valid; the book only drops its own references.
 Curves are in kind then id order, so a junction's turns are consecutive and a sweep over
 the curves in that order builds each batch once.
 
-**Levels** (docs/design.md §6, :mod:`analysis.levels`). On a network with heights that
-differ by more than :data:`~analysis.levels.LEVEL_STEP_M`, a curve whose run or whose
-areas' lanes and junctions span more than that also gets its level segments
-(:func:`curve_levels`, through :meth:`AreaBook.levels`): for each slot of its centre
-line's heights, the same members as its ``own_lanes``, ``roadway`` and ``paved`` areas, cut to the
-parts within :data:`~analysis.levels.LEVEL_BAND_M` of the stretch's height (a lane by its
-shape points' heights, a junction polygon by its node's). A flat network's curves have
-none and are judged in plan, exactly as before, at no cost.
+**Levels** (docs/design.md §6, :mod:`analysis.levels`, :mod:`networks.stacking`). A curve
+some of whose parts lie over or under another part of the network (a helix, a garage, a
+flyover) gets level segments (:func:`curve_levels`, through :meth:`AreaBook.levels`): for
+each slot of its centre line's heights, the same members as its ``own_lanes``, ``roadway``
+and ``paved`` areas, cut to the parts that storey meets (within
+:data:`~analysis.levels.LEVEL_BAND_M` of the slot's height, or not stacked and reached from
+those along the road). Every other curve, however steep, has none and is judged in plan; a
+flat network's curves have none at no cost.
 """
 
 from __future__ import annotations
@@ -33,11 +33,13 @@ from collections.abc import Iterator, Sequence
 
 import numpy as np
 import shapely
+from shapely.geometry.base import BaseGeometry
 
 from analysis.clearance import Areas
-from analysis.levels import LEVEL_BAND_M, LEVEL_STEP_M, Level, band_pieces, is_flat, level_slots
+from analysis.levels import LEVEL_BAND_M, LEVEL_STEP_M, Level, band_pieces, level_slots
 from networks.area_groups import AreaCurve, AreaIndex, BatchPlan
 from networks.model import Network
+from networks.stacking import Stacking, densified, densify, met_pieces
 
 __all__ = ["AreaBook", "BATCH_CURVES", "MAX_BATCHES", "curve_levels", "network_is_flat"]
 
@@ -212,13 +214,14 @@ def network_is_flat(net: Network) -> bool:
 def curve_levels(index: AreaIndex, curve: AreaCurve, force: bool = False) -> tuple[Level, ...]:
     """A curve's level segments, each with its storey's own lanes, roadway and paved area.
 
-    The members of the curve's areas (:class:`~networks.area_groups.BatchPlan`) are cut to
-    the parts within :data:`~analysis.levels.LEVEL_BAND_M` of each slot's middle height
-    (:func:`analysis.levels.level_slots` of the centre line); the paved area covers the
-    roadway and the own lanes and is closed over its cracks, as in plan. None (an empty
-    tuple) when the run and every member lie within :data:`~analysis.levels.LEVEL_STEP_M`
-    of each other: the plan areas are then the storey's (``force`` builds the levels all
-    the same, for checks).
+    The members of the curve's areas (:class:`~networks.area_groups.BatchPlan`) and its own
+    line are cut to the parts each slot (:func:`analysis.levels.level_slots` of the centre
+    line) meets (:func:`networks.stacking.met_pieces`: within
+    :data:`~analysis.levels.LEVEL_BAND_M` of its middle height, or not stacked and reached
+    from those along the road); the paved area covers the roadway and the own lanes and is
+    closed over its cracks, as in plan. None (an empty tuple) when no part of the curve is
+    stacked (:mod:`networks.stacking`): the plan areas are then the storey's, however steep
+    the curve (``force`` builds the levels all the same, for checks).
 
     Examples
     --------
@@ -243,37 +246,119 @@ def curve_levels(index: AreaIndex, curve: AreaCurve, force: bool = False) -> tup
     paved_lanes = list(dict.fromkeys([*p_pieces, *p_alone, *road]))
     cl = np.asarray(curve.centerline, dtype=float)
     s = np.concatenate(([0.0], np.cumsum(np.hypot(*np.diff(cl[:, :2], axis=0).T))))
-    heights = [cl[:, 2], *(net.lanes[k].shape[:, 2] for k in paved_lanes),
-               np.array([net.junctions[j].z for j in junctions])]
-    if not force and is_flat(np.concatenate(heights)):
-        return ()
-    line = designed_line(cl, curve.curve_id)
-    along = np.concatenate(([0.0], np.cumsum(np.hypot(*np.diff(line, axis=0).T))))
-    own_line = np.column_stack([line, np.interp(along * s[-1] / max(along[-1], 1e-9), s,
-                                                cl[:, 2])])
+    flat = designed_line(cl, curve.curve_id)
+    own_line = _with_heights(densify(np.column_stack([flat, np.zeros(len(flat))]))[:, :2], cl, s)
     half = curve.lane_width_m / 2.0
+    st = index.stacking
+    own_mask = st.line_mask(own_line, half)
+    stacked = (own_mask.any() or any(k in st.lanes for k in paved_lanes)
+               or not st.junctions.isdisjoint(junctions))
+    if not force and not stacked:
+        return ()  # no part of it over or under another: judged in plan, however steep
+    members = list(dict.fromkeys([*paved_lanes, *(k for j in junctions
+                                                  for k in net.junctions[j].int_lanes
+                                                  if k in net.lanes)]))
+    lines = {k: densified(net, k) for k in members}
+    lines[_OWN] = own_line
+    links = {k: [c.to_lane if c.via is None else c.via for c in net.outgoing(k)]
+             for k in members}
+    stacked_pieces = {k: st.lanes[k] for k in members if k in st.lanes}
+    stacked_pieces[_OWN] = own_mask
     out = []
     for z_lo, z_hi in level_slots(cl[:, 2], LEVEL_STEP_M):
         z_mid = 0.5 * (z_lo + z_hi)
         lo, hi = z_mid - LEVEL_BAND_M, z_mid + LEVEL_BAND_M
+        met = met_pieces(lines, stacked_pieces, links, lo, hi)
         own = shapely.union_all([shapely.buffer(shapely.LineString(p), half, quad_segs=4,
                                                 cap_style="flat", join_style="round")
-                                 for p in band_pieces(own_line, lo, hi) if len(p) > 1])
+                                 for p in _met_lines(own_line, met[_OWN], own_mask, lo, hi)])
         if own.is_empty:
             continue
-        road_k = _band_union(net, road, lo, hi, SEAL_M)
+        road_k = _union(net, {k: lines[k] for k in road}, met, st, lo, hi, SEAL_M)
         polys = [net.junctions[j].shape for j in junctions
-                 if lo <= net.junctions[j].z <= hi and len(net.junctions[j].shape) >= 3]
+                 if len(net.junctions[j].shape) >= 3 and _junction_met(net, st, j, met, lo, hi)]
         junction_k = [shapely.buffer(shapely.make_valid(shapely.Polygon(p[:, :2])), SEAL_M,
                                      quad_segs=1, join_style="mitre") for p in polys]
-        paved_k = shapely.union_all([_band_union(net, paved_lanes, lo, hi, SEAL_M),
-                                     *junction_k, own])
+        paved_k = shapely.union_all([
+            _union(net, {k: lines[k] for k in paved_lanes}, met, st, lo, hi, SEAL_M),
+            *junction_k, own])
         # closed over the cracks as the plan's paved area is (networks.areas.close_cracks)
         paved_k = close_cracks(np.array([shapely.make_valid(paved_k)], dtype=object))[0]
         paved_k = _fill_small_holes(paved_k)
         areas = Areas(own, paved_k, None if road_k.is_empty else _fill_small_holes(road_k))
         out.append(Level(z_lo, z_hi, areas))
     return tuple(out)
+
+
+#: The key of a curve's own line among its members' lines (no lane id is empty).
+_OWN = ""
+
+
+def _with_heights(line: np.ndarray, centerline: np.ndarray, s_m: np.ndarray) -> np.ndarray:
+    """A plane line drawn along a 3-D centre line (its designed line), each point at the
+    centre line's height at the same share of their lengths.
+
+    >>> cl = np.array([[0.0, 0, 0], [10.0, 0, 5]])
+    >>> _with_heights(np.array([[0.0, 1.0], [2.0, 1.0], [10.0, 1.0]]), cl,
+    ...               np.array([0.0, 10.0]))[:, 2]
+    array([0., 1., 5.])
+    """
+    along = np.concatenate(([0.0], np.cumsum(np.hypot(*np.diff(line, axis=0).T))))
+    z = np.interp(along * s_m[-1] / max(along[-1], 1e-9), s_m, centerline[:, 2])
+    return np.column_stack([line, z])
+
+
+def _met_lines(pts: np.ndarray, met: np.ndarray, stacked: np.ndarray | None, lo: float,
+               hi: float) -> list[np.ndarray]:
+    """The plane polylines of a 3-D polyline that a storey meets
+    (:func:`networks.stacking.met_pieces`): of its stacked pieces the parts within the band
+    ``lo .. hi`` (cut where they cross it, :func:`analysis.levels.band_pieces`), and its
+    runs of other pieces met, whole.
+
+    >>> ramp = np.array([[0, 0, 0.0], [2, 0, 2], [4, 0, 4]])
+    >>> [p.tolist() for p in _met_lines(ramp, np.array([True, True]), None, -1.0, 1.0)]
+    [[[0.0, 0.0], [2.0, 0.0], [4.0, 0.0]]]
+    >>> [p.tolist() for p in _met_lines(ramp, np.array([True, False]), np.array([True, True]),
+    ...                                 -1.0, 1.0)]
+    [[[0.0, 0.0], [1.0, 0.0]]]
+    """
+    free = met if stacked is None else met & ~stacked
+    out = [] if stacked is None or not stacked.any() else [
+        p for p in band_pieces(pts, lo, hi) if len(p) > 1]
+    if free.any():  # met and not stacked: whole pieces
+        edges = np.flatnonzero(np.diff(np.concatenate(([0], free.astype(np.int8), [0]))))
+        for a, b in zip(edges[::2].tolist(), edges[1::2].tolist(), strict=True):
+            out.append(pts[a:b + 1, :2])
+    return out
+
+
+def _junction_met(net: Network, st: Stacking, j: str, met: dict[str, np.ndarray], lo: float,
+                  hi: float) -> bool:
+    """Whether a storey meets a junction's polygon: its heights reach into the band, or it
+    is not stacked and a lane on it is met (an internal lane, or a lane's end on it)."""
+    if _meets(st.junction_z.get(j, (net.junctions[j].z,) * 2), lo, hi):
+        return True
+    if j in st.junctions:
+        return False
+    for k in net.junctions[j].int_lanes:
+        if k in met and met[k].any():
+            return True
+    for k, m in met.items():
+        if k and len(m) and k in net.lanes:
+            e = net.edges.get(net.lanes[k].edge)
+            if e is not None and ((e.to_junction == j and m[-1]) or (e.from_junction == j
+                                                                     and m[0])):
+                return True
+    return False
+
+
+def _meets(z_range: tuple[float, float], lo: float, hi: float) -> bool:
+    """Whether a height range reaches into the band ``lo .. hi``.
+
+    >>> _meets((0.0, 1.0), 0.5, 2.0), _meets((3.0, 4.0), 0.5, 2.0)
+    (True, False)
+    """
+    return z_range[0] <= hi and z_range[1] >= lo
 
 
 def _members(plan: BatchPlan, keys: Sequence[str]) -> tuple[list[str], list[str], list[str]]:
@@ -291,13 +376,13 @@ def _members(plan: BatchPlan, keys: Sequence[str]) -> tuple[list[str], list[str]
     return pieces, lanes, junctions
 
 
-def _band_union(net: Network, lanes: Sequence[str], lo: float, hi: float, seal_m: float):
-    """The union of the lanes' parts within heights ``lo .. hi`` (round ends, as the plan
-    areas' lanes, grown by ``seal_m``)."""
+def _union(net: Network, lines: dict[str, np.ndarray], met: dict[str, np.ndarray],
+           st: Stacking, lo: float, hi: float, seal_m: float) -> BaseGeometry:
+    """The union of the lanes' parts a storey meets (:func:`_met_lines`), with round ends as
+    the plan areas' lanes, grown by ``seal_m``."""
     polys = []
-    for k in lanes:
-        lane = net.lanes[k]
-        for p in band_pieces(lane.shape, lo, hi):
-            geom = shapely.LineString(p) if len(p) > 1 else shapely.Point(p[0])
-            polys.append(shapely.buffer(geom, lane.width_m / 2.0 + seal_m, quad_segs=4))
+    for k, pts in lines.items():
+        width = net.lanes[k].width_m / 2.0 + seal_m
+        for p in _met_lines(pts, met[k], st.lanes.get(k), lo, hi):
+            polys.append(shapely.buffer(shapely.LineString(p), width, quad_segs=4))
     return shapely.union_all(polys) if polys else shapely.Polygon()

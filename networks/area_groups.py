@@ -30,6 +30,7 @@ import numpy as np
 
 from networks.model import ROAD_VCLASSES, Network
 from networks.paths import junction_of_internal, via_lanes
+from networks.stacking import Stacking, stacking
 
 __all__ = ["AreaCurve", "AreaIndex", "BatchPlan", "is_road", "junctions_of", "plain_edges_of"]
 
@@ -76,10 +77,13 @@ class AreaIndex:
         the slow way, lane by lane).
     road_lanes
         Lanes that passenger cars, buses or trucks may use (:func:`is_road`).
+    stacking
+        The parts of the network over or under another part (:mod:`networks.stacking`).
     """
 
     def __init__(self, net: Network):
         self.net = net
+        self._stacking: Stacking | None = None
         self.incident: dict[str, list[str]] = {}
         for e in net.edges.values():
             if e.function == "internal":
@@ -111,6 +115,14 @@ class AreaIndex:
         self.odd_lanes = frozenset(odd)
         self.road_lanes = frozenset(road)
 
+
+    @property
+    def stacking(self) -> Stacking:
+        """The network's stacked parts (:func:`networks.stacking.stacking`, made when first
+        asked: only curves with heights ask)."""
+        if self._stacking is None:
+            self._stacking = stacking(self.net)
+        return self._stacking
     def plain_edges(self, lanes: Sequence[str]) -> tuple[str, ...] | None:
         """The plain edges a lane sequence runs on, as :func:`plain_edges_of` gives them;
         None when a lane is neither a plain lane nor named as an internal one (an unknown

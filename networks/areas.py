@@ -57,8 +57,8 @@ import shapely
 
 from analysis.polyline import DEFAULT_SPACING_M, prepare_path
 from networks.area_groups import AreaCurve, AreaIndex, BatchPlan
+from networks.collector import gc_paused
 from networks.model import Network
-from networks.reader import gc_paused
 from vehicles.errors import InputError
 
 __all__ = ["CRACK_M", "CapStyle", "DESIGNED_TOLERANCE_M", "Job", "MIN_HOLE_M2", "PAIRWISE_MAX",

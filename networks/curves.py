@@ -43,7 +43,8 @@ import numpy as np
 from shapely.geometry.base import BaseGeometry
 
 from analysis.levels import Level
-from networks.elevation import drop_suspect_elevation
+from networks.collector import gc_paused
+from networks.elevation import suspect_notes
 from networks.geometry import (
     arc_length,
     clean_polyline,
@@ -63,7 +64,6 @@ from networks.paths import (
     via_lanes,
 )
 from networks.profiles import Stations, profiles
-from networks.reader import gc_paused
 from vehicles.errors import InputError
 
 if TYPE_CHECKING:
@@ -125,9 +125,10 @@ class Curve:
         Largest grade and largest algebraic change of grade over the feature and 3 m
         either side (see :func:`networks.geometry.grades_pct`), without suspect heights.
     suspect_elevation
-        Lone heights of the centre line far off their neighbours', named by lane and point
-        (:mod:`networks.elevation`): left out of the centre line's z, the grade and the
-        vertical checks; ``""`` when there are none.
+        Lone heights of the curve's lanes far off their neighbours', named by lane and
+        point (:mod:`networks.elevation`): repaired in the network on reading, so left out
+        of the centre line's z, the grade, the vertical checks and the levels; ``""`` when
+        there are none.
     own_lanes, roadway, paved
         Shapely areas (properties): the curve's lanes (its centre line buffered by half
         the lane width), the same-direction roadway, the paved area (see
@@ -274,9 +275,8 @@ def _measure(
     for n, ((cid, kind, junction, _), path, min_r, turn, slope) in enumerate(zip(
         items, paths, prof.min_radius_m.tolist(), prof.turn_deg.tolist(), sloped, strict=True
     )):
-        line, suspect = path.centerline, ""
-        if slope:  # a lone height far off its neighbours is not a ramp (networks.elevation)
-            line, suspect = drop_suspect_elevation(net, path.lanes, line)
+        line = path.centerline  # lone heights were repaired on reading (networks.elevation)
+        suspect = suspect_notes(net, path.lanes) if net.suspect_heights else ""
         a, b = path.core_start_m, path.core_end_m
         g, dg = grades_pct(line, a - w, b + w, w) if slope else (0.0, 0.0)
         width = float(min(lanes[x].width_m for x in (path.core_lanes or path.lanes)))

@@ -66,7 +66,9 @@ def load_networks(paths: list[Path]) -> list[Network]:
 
 
 def _start_check(p: Path) -> SumoLoadCheck:
-    scan_prolog(p)  # a regular file of XML, before SUMO is started on it
+    root = scan_prolog(p)  # a regular file of XML, before SUMO is started on it
+    if root != "net":
+        raise InputError(f"{p}: not a SUMO network (root element <{root}>, expected <net>)")
     return SumoLoadCheck(p)
 
 

@@ -161,9 +161,14 @@ class Network:
     #: What was left out or repaired while reading, in words naming each element
     #: (:mod:`networks.integrity`): what SUMO loads but no vehicle can be judged on.
     repairs: list[str] = field(default_factory=list)
+    #: Lane shape points whose lone height was repaired (:mod:`networks.elevation`): notes
+    #: naming lane and point, by lane id.
+    suspect_heights: dict[str, list[str]] = field(default_factory=dict)
     _out: dict[str, list[Connection]] | None = field(default=None, repr=False)
     _in: dict[str, list[Connection]] | None = field(default=None, repr=False)
     _clean: dict[str, tuple[np.ndarray, float]] = field(default_factory=dict, repr=False)
+    #: Lane shapes cut into short pieces, by (lane id, step): :func:`networks.stacking.densified`.
+    dense: dict[tuple[str, float], np.ndarray] = field(default_factory=dict, repr=False)
 
     def lane_line(self, lane_id: str) -> tuple[np.ndarray, float]:
         """A lane's shape without repeated points, and its plane length (cached)."""

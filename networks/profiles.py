@@ -21,8 +21,8 @@ from typing import NamedTuple
 
 import numpy as np
 
+from networks.collector import gc_paused
 from networks.profile_kernel import chord_frame, station_profiles
-from networks.reader import gc_paused
 
 __all__ = ["CHUNK_LINES", "MAX_WINDOW_M", "MIN_CHORD_M", "Profiles", "Stations", "profiles"]
 

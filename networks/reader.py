@@ -21,12 +21,10 @@ array([[...]])
 
 from __future__ import annotations
 
-import gc
 import logging
 import math
 import os
-from collections.abc import Iterator, Mapping
-from contextlib import contextmanager
+from collections.abc import Mapping
 from itertools import islice
 from pathlib import Path
 from sys import intern
@@ -34,6 +32,8 @@ from typing import TYPE_CHECKING, cast
 
 from lxml import etree
 
+from networks.collector import gc_paused
+from networks.elevation import repair_suspect_heights
 from networks.integrity import ConnectionRow, check_references, leave_out_lanes
 from networks.model import (
     DEFAULT_LANE_WIDTH_M,
@@ -62,7 +62,7 @@ if TYPE_CHECKING:  # names of the lxml stubs only, not of lxml itself
     from lxml.etree._parser import CustomTargetParser
     from lxml.etree._saxparser import ParserTarget
 
-__all__ = ["gc_paused", "make_parser", "read_network"]
+__all__ = ["make_parser", "read_network"]
 
 log = logging.getLogger(__name__)
 
@@ -108,7 +108,9 @@ def read_network(path: str | os.PathLike[str]) -> Network:
             raise InputError(f"{p}: malformed or truncated XML ({exc})") from exc
         except (EOFError, OSError) as exc:
             raise InputError(f"{p}: truncated or corrupt file ({exc})") from exc
-        return state.finish()
+        net = state.finish()
+    repair_suspect_heights(net)  # lone heights are no ramps (networks.elevation)
+    return net
 
 
 def make_parser(state: _ParseState) -> CustomTargetParser[None]:
@@ -138,42 +140,6 @@ def make_parser(state: _ParseState) -> CustomTargetParser[None]:
         remove_comments=True,
         remove_pis=True,
     )
-
-
-@contextmanager
-def gc_paused() -> Iterator[None]:
-    """Pause Python's cyclic garbage collector inside the block (restored after).
-
-    Building many objects that all stay alive makes the collector scan them again and
-    again for nothing (about a third of the time of reading a large network); the
-    objects made here hold no reference cycles, so nothing is left for it to free.
-
-    On leaving the outermost such block, what it made is moved to the collector's oldest
-    generation at once (``gc.freeze()`` then ``gc.unfreeze()``: no scan), instead of
-    being scanned by the next young collection and again by the one after (about 0.3 s
-    after reading the 10,000-junction grid, 1.1 s after extracting its curves). Nothing
-    is kept from the collector: full collections still scan everything. Skipped when the
-    program keeps objects frozen itself (``gc.get_freeze_count()``), which it would undo.
-
-    Examples
-    --------
-    >>> import gc
-    >>> with gc_paused():
-    ...     gc.isenabled()
-    False
-    >>> gc.isenabled(), gc.get_freeze_count()
-    (True, 0)
-    """
-    was_enabled = gc.isenabled()
-    gc.disable()
-    try:
-        yield
-    finally:
-        if was_enabled:
-            if gc.get_freeze_count() == 0:
-                gc.freeze()
-                gc.unfreeze()
-            gc.enable()
 
 
 _CHUNK_BYTES = 1 << 22

@@ -31,7 +31,7 @@ from networks.curves import Curve
 from networks.samples.build import SAMPLES, SAMPLES_DIR
 from reports.atomic import write_bytes_atomic, write_text_atomic
 from reports.batch import bare, with_areas, worker_network
-from reports.document import Section, build_sections, html_document, markdown
+from reports.document import Section, build_sections, html_document
 from reports.executor import Executor, SharedFile, WorkerLost, make_executor, run_isolated
 from reports.export_geojson import lonlat_transformer, parse_origin
 from reports.exports import EnvelopeRecord, conflict_parts
@@ -39,6 +39,7 @@ from reports.feedback import overreach_point
 from reports.figures import CurveFigure, draw_curve_figure, scratch_files, worst_by_curve
 from reports.file_names import file_name
 from reports.html_images import COMPACT_MADE, compact_key, compact_png
+from reports.markdown import markdown
 from reports.options import (
     add_clearance_option,
     add_executor_options,
@@ -520,6 +521,9 @@ def run(args: argparse.Namespace) -> int:
           f"in {time.perf_counter() - t0:.1f} s")
     print("  " + ", ".join(f"{v}: {int(counts.get(v, 0))}"
                            for v in sorted(VERDICT_ORDER, key=VERDICT_ORDER.__getitem__)))
+    if study.not_permitted:
+        print(f"  not run: {counted(len(study.not_permitted), 'curve')} whose lanes do not "
+              "admit the vehicle's SUMO class (per vehicle in the report)")
     if waived is not None:
         print(f"  waived: {counted(len(waived), 'run')}")
         for w in waived.unused:

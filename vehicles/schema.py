@@ -108,13 +108,15 @@ VCLASSES: tuple[str, ...] = (
 )
 """SUMO vehicle classes a table row may name (those that drive on roads)."""
 
-#: Category words and the SUMO class they mean, the first match winning (lower case).
+#: Category words and the SUMO class they mean, the first match winning (lower case). A car
+#: or a motor home towing a trailer stays a passenger vehicle (SUMO's ``trailer`` is a truck
+#: with a trailer, the class truck bans keep out).
 _CATEGORY_VCLASS: tuple[tuple[str, str], ...] = (
-    ("semitrailer", "trailer"), ("combination", "trailer"), ("trailer", "trailer"),
-    ("coach", "coach"), ("bus", "bus"), ("truck", "truck"), ("lorry", "truck"),
-    ("van", "delivery"), ("delivery", "delivery"), ("motorcycle", "motorcycle"),
-    ("emergency", "emergency"), ("fire", "emergency"), ("passenger", "passenger"),
-    ("car", "passenger"), ("suv", "passenger"),
+    ("passenger", "passenger"), ("motor home", "passenger"), ("car", "passenger"),
+    ("suv", "passenger"), ("semitrailer", "trailer"), ("combination", "trailer"),
+    ("trailer", "trailer"), ("coach", "coach"), ("bus", "bus"), ("truck", "truck"),
+    ("lorry", "truck"), ("van", "delivery"), ("delivery", "delivery"),
+    ("motorcycle", "motorcycle"), ("emergency", "emergency"), ("fire", "emergency"),
 )
 
 
@@ -126,6 +128,9 @@ def default_vclass(category: str) -> str:
     >>> [default_vclass(c) for c in ("passenger car", "single-unit truck", "school bus",
     ...                              "semitrailer combination", "Coach", "")]
     ['passenger', 'truck', 'bus', 'trailer', 'coach', 'passenger']
+    >>> [default_vclass(c) for c in ("articulated bus", "truck and full trailer",
+    ...                              "passenger car and boat trailer", "motor home")]
+    ['bus', 'trailer', 'passenger', 'passenger']
     """
     text = category.lower()
     for word, vclass in _CATEGORY_VCLASS:

@@ -433,6 +433,9 @@ class _SumoSession:
                 if v.height_m is not None and math.isfinite(v.height_m):
                     t.vehicletype.setHeight(tt, v.height_m)
                 t.vehicletype.setShapeClass(tt, "truck")
+                # the whole combination is of the vehicle's class: a trailer of the
+                # passenger class SUMO would not place on a bus lane (the articulated bus)
+                t.vehicletype.setVehicleClass(tt, v.vclass)
                 t.vehicletype.setParameter(tt, "model", f"{v.name} (trailer)")
                 t.vehicletype.setActionStepLength(tt, NO_DECISIONS_S, True)
             self.vtypes[key] = tid

@@ -6,9 +6,10 @@ import math
 
 import numpy as np
 
+from networks.area_book import network_is_flat
 from networks.curves import extract_curves
-from networks.elevation import drop_suspect_elevation
 from networks.reader import read_network
+from networks.samples.sources import SAMPLES_DIR
 
 RADIUS_M, RISE_M, TURNS = 9.0, 3.2, 2.0
 DESIGN_GRADE_PCT = 100 * RISE_M / (2 * math.pi * RADIUS_M)  # 5.66 %
@@ -50,17 +51,37 @@ def test_helix_grade_is_its_design_grade(build_net):
 
 def test_lone_height_is_flagged_not_reported_as_a_grade(build_net):
     net = read_network(build_net(*helix_sources(spike_at=40), name="spike"))
-    lane = net.lanes["helix_0"]
-    z = lane.shape[:, 2]
-    spike = int(np.argmax(z - np.interp(np.arange(len(z)), [0, len(z) - 1], [z[0], z[-1]])))
+    z = net.lanes["helix_0"].shape[:, 2]
+    spike = 41  # the helix's point 40, after the lane's first point
+    assert abs(z[spike] - 0.5 * (z[spike - 1] + z[spike + 1])) < 1e-3  # on the line again
     ramp = extract_curves(net, kinds=("ramp",), areas=False)[0]
-    assert f"lane helix_0 point {spike}" in ramp.suspect_elevation
+    assert f"lane helix_0 point {spike}: z 31.78 m, 30.0 m off" in ramp.suspect_elevation
     assert "suspect geometry" in ramp.suspect_elevation
     assert abs(ramp.max_grade_pct - DESIGN_GRADE_PCT) < 0.5  # not thousands of per cent
     assert float(np.max(ramp.centerline[:, 2])) < RISE_M * TURNS + 1e-6
 
 
-def test_clean_line_is_left_alone():
-    line = np.array([[0.0, 0, 0], [20, 0, 0], [40, 0, 3], [60, 0, 3]])
-    clean, note = drop_suspect_elevation(None, (), line)  # type: ignore[arg-type]
-    assert note == "" and clean is line
+def test_a_network_without_lone_heights_is_left_alone(build_net):
+    net = read_network(build_net(*helix_sources(), name="helix"))
+    assert net.suspect_heights == {} and net.repairs == []
+
+
+def test_a_lone_height_at_a_lanes_junction_end_is_repaired_in_the_network(tmp_path):
+    # z = 1e6 at the junction end of a two-point lane: the lead-in of the curves through it
+    # interpolated heights of 760,000 m into their centre lines, and the report hung
+    # building 760,766 storeys; now the network's own shape is repaired on reading
+    text = (SAMPLES_DIR / "intersection" / "intersection.net.xml").read_text()
+    old = 'shape="520.00,1.75 415.50,1.75"'
+    assert text.count(old) == 1
+    p = tmp_path / "spike.net.xml"
+    p.write_text(text.replace(old, 'shape="520.00,1.75 415.50,1.75,1000000"'))
+    net = read_network(p)
+    assert net.lanes["TE_in_0"].shape[:, 2].tolist() == [0.0, 0.0]
+    assert network_is_flat(net)
+    [note] = net.suspect_heights["TE_in_0"]
+    assert note.startswith("lane TE_in_0 point 1: z 1000000.00 m") and note in net.repairs
+    curves = {c.curve_id: c for c in extract_curves(net, areas=False)}
+    through = curves["turn:T:TE_in_0->TW_out_0"]
+    assert float(np.abs(through.centerline[:, 2]).max()) == 0.0
+    assert through.suspect_elevation == note and through.max_grade_pct == 0.0
+    assert curves["turn:X:XE_in_0->XN_out_0"].suspect_elevation == ""

@@ -223,7 +223,7 @@ def test_bad_number_names_the_element(tmp_path):
 def test_what_a_paused_block_made_goes_to_the_oldest_generation_unscanned():
     import gc
 
-    from networks.reader import gc_paused
+    from networks.collector import gc_paused
 
     class Node:
         pass

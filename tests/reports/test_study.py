@@ -85,3 +85,61 @@ def test_batch_sizes_shrink_toward_the_end_and_cover_every_run():
         assert sizes[-1] <= max(MIN_BATCH_RUNS, -(-runs // (2 * workers)))
     # a quarter of what is left, at most 400: 400 while 1,600 or more are left
     assert list(batch_sizes(6000, 2))[:14] == [400] * 12 + [300, 225]
+
+
+def flattened(text: str) -> str:
+    """A network's XML with every height taken out: shapes in x,y, every ``z`` 0."""
+    import re
+
+    def shape(m: re.Match[str]) -> str:
+        pts = [",".join(p.split(",")[:2]) for p in m.group(2).split()]
+        return f'{m.group(1)}="{" ".join(pts)}"'
+
+    text = re.sub(r'(shape|customShape)="([^"]*)"', shape, text)
+    return re.sub(r' z="[^"]*"', ' z="0.00"', text)
+
+
+def test_a_road_that_climbs_is_judged_as_the_same_road_flattened(tmp_path):
+    # issue 27: on SUMO's own elevated test networks, straight-throughs on a 20 % road were
+    # `encroaches` by 9 m (the level band cut away the lanes up and down the slope); in plan
+    # they are clear. Every run has the verdict and margins of the same network flattened.
+    from tests.networks.sumo.test_parity import HAND_PICKED
+    from tests.networks.test_stacking import ELEVATED
+
+    paths = []
+    for name in ELEVATED:
+        src = HAND_PICKED / f"{name}.net.xml"
+        flat = tmp_path / f"{name}.flat.net.xml"
+        flat.write_text(flattened(src.read_text()))
+        paths += [src, flat]
+    table = load_tables([bundled_table("aashto_green_book")], names=["P", "CITY-BUS"])
+    study = run_study(paths, table, use_sumo=False, workers=2)
+    frame = study.frame()
+    frame["base"] = frame.network.str.removesuffix(".flat")
+    sloped = frame[~frame.network.str.endswith(".flat")].set_index(["base", "curve_id",
+                                                                     "vehicle"])
+    flat = frame[frame.network.str.endswith(".flat")].set_index(["base", "curve_id", "vehicle"])
+    both = sloped.merge(flat, left_index=True, right_index=True, suffixes=("", "_flat"))
+    assert len(both) >= 40 and (sloped.max_grade_pct > 10).any()
+    assert (both.verdict == both.verdict_flat).all(), both[both.verdict != both.verdict_flat]
+    assert (both.margin_m - both.margin_m_flat).abs().max() < 0.01
+    # the only runs of one and not the other: ramps, which only a slope makes
+    assert set(sloped.index.difference(flat.index).get_level_values(1).str.split(":").str[0]
+               ) <= {"ramp"}
+
+
+def test_an_articulated_bus_drives_a_bus_lane_as_a_bus_trailer_and_all():
+    # its trailer's SUMO type kept the passenger class: SUMO would not place it on a bus-only
+    # street ("Vehicle 'v61.trailer' is not allowed to depart on any lane of edge 'a190'")
+    # and the run was an `error`: 17 of A-BUS's runs on bologna_joined
+    table = load_tables([bundled_table("aashto_green_book")], names=["A-BUS", "P"])
+    assert {v.name: v.vclass for v in table.vehicles()} == {"A-BUS": "bus", "P": "passenger"}
+    study = run_study([_realnet("bologna_joined.net.xml.gz")], table, workers=1, swing=False,
+                      selection=Selection(junctions=("a54", "a55m")))
+    verdicts = {(r.vehicle, r.curve_id): r.verdict for r in study.records}
+    assert verdicts[("A-BUS", "turn:a54:a190_0->a77[0]_0")] != "error"
+    assert verdicts[("A-BUS", "turn:a55m:a55_0->a55b_0")] != "error"
+    assert "error" not in verdicts.values()
+    # the bus-only streets are not P's: not run, counted
+    assert ("P", "turn:a55m:a55_0->a55b_0") not in verdicts
+    assert ("bologna_joined", "P", "turn:a55m:a55_0->a55b_0") in study.not_permitted

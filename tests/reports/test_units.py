@@ -20,7 +20,7 @@ from analysis.overreach import Overreach
 from analysis.path_search import Candidate, swing_reason
 from analysis.polyline import prepare_path
 from analysis.tracking import simulate
-from networks.elevation import drop_suspect_elevation
+from networks.elevation import repair_suspect_heights
 from networks.samples import build as samples
 from networks.selection import Selection
 from reports.cli import main
@@ -99,9 +99,13 @@ def produced_reasons() -> list[str]:
                              Clearance("fails", -0.4, -0.3, None, 0.0, "leaves"))]).reason)
     run = simulate(CAR, [(0.0, 0.0), (20.0, 0.0), (20.0, 3.0), (0.0, 3.0)])
     out += [run.reason, feature_reason(run, feature_mask(run, (15.0, 30.0)))]
-    net = type("Net", (), {"lanes": {}})()
-    line = [[0, 0, 40.0], [50, 0, 40.2], [122, 0, 218], [200, 0, 40.6]]
-    out.append(drop_suspect_elevation(net, (), np.array(line))[1])
+    from networks.model import Edge, Lane, Location, Network
+
+    line = np.array([[0, 0, 40.0], [50, 0, 40.2], [122, 0, 218], [200, 0, 40.6]])
+    net = Network("n", {"m_0": Lane("m_0", "m", 0, 3.5, "normal", frozenset(), line, 200, 9)},
+                  {"m": Edge("m", "a", "b", "normal", 1, ["m_0"])}, [], {}, [], Location())
+    repair_suspect_heights(net)
+    out.append(net.suspect_heights["m_0"][0])
     assert all(out) and all(METRE_LENGTH.search(r) for r in out), out
     return out
 
