@@ -57,7 +57,8 @@ from analysis.polyline import Path
 from analysis.tracking import TrackingRun
 from vehicles.errors import InputError
 
-__all__ = ["Areas", "Clearance", "DEFAULT_DENSIFY_M", "END_SLACK_M", "NEAR_M", "PRECISION_M",
+__all__ = ["Areas", "Clearance", "DEFAULT_DENSIFY_M", "END_SLACK_M", "NEAR_M", "NOTHING_SWEPT",
+           "PRECISION_M",
            "RunResult", "VERDICTS", "classify", "end_boxes", "evaluate", "evaluate_batch",
            "farthest_on_lines", "signed_margin_m", "worst_level"]
 
@@ -368,6 +369,11 @@ class Clearance:
     reason: str
 
 
+#: The reason of a run whose envelope holds nothing to judge (never ``clear``).
+NOTHING_SWEPT = ("nothing was swept between the feature's ends: the curve is shorter than one "
+                 "step of the model, or has no lane to be judged against")
+
+
 def classify(
     envelope: BaseGeometry,
     areas: Areas,
@@ -409,13 +415,17 @@ def classify(
     'fails'
     >>> classify(shapely.box(10, 0.75, 20, 2.75), areas, cannot_turn_reason="lock").verdict
     'cannot-turn'
+    >>> classify(shapely.Polygon(), areas).verdict  # nothing swept: nothing is clear
+    'cannot-turn'
     """
     _check_offset(offset_m)
     grown = shapely.buffer(envelope, offset_m, quad_segs=8) if offset_m > 0 else envelope
-    if grown.is_empty and cannot_turn_reason:
-        # the run stopped before its body swept anything between the curve's ends
+    if grown.is_empty:
+        # the run stopped before its body swept anything between the curve's ends, or the
+        # curve is shorter than one step of the model (a network drawn 10,000 times too
+        # small): nothing was judged, so nothing is clear
         return Clearance("cannot-turn", math.nan, math.nan, None, float(offset_m),
-                         cannot_turn_reason)
+                         cannot_turn_reason or NOTHING_SWEPT)
     margins = {}
     for name in ("own_lanes", "paved", "roadway"):
         area = getattr(areas, name)
@@ -423,6 +433,9 @@ def classify(
             margins[name] = _within_precision(signed_margin_m(
                 grown, area, areas.boundary(name), densify_m, ignore, areas.segments(name)))
     own, paved, road = margins["own_lanes"], margins["paved"], margins.get("roadway")
+    if not (math.isfinite(own) and math.isfinite(paved)):  # no area to judge against
+        return Clearance("cannot-turn", math.nan, math.nan, None, float(offset_m),
+                         cannot_turn_reason or NOTHING_SWEPT)
     grown_by = f" (grown by {offset_m:.2f} m)" if offset_m > 0 else ""
     if cannot_turn_reason:
         verdict, reason = "cannot-turn", cannot_turn_reason

@@ -30,10 +30,38 @@ import numpy as np
 from networks.model import Edge, Junction, Lane, Roundabout
 from vehicles.errors import InputError
 
-__all__ = ["ConnectionRow", "check_references", "leave_out_lanes"]
+__all__ = ["ConnectionRow", "MIN_ROAD_LANE_M", "check_references", "leave_out_lanes",
+           "not_at_road_scale"]
 
 #: A connection as the reader collects it: from edge, to edge, fromLane, toLane, via, dir.
 ConnectionRow = tuple[str, str, int, int, str | None, str]
+
+
+#: A network none of whose road lanes is at least this wide is not drawn at road scale (m):
+#: road lanes are 2.5-5 m wide, a cycle lane 1 m; a network drawn 10,000 times too small
+#: (a junction 5 mm across) has lanes of 0.35 mm, whose every run would be judged on nothing.
+MIN_ROAD_LANE_M = 1.0
+
+
+def not_at_road_scale(lanes: Mapping[str, Lane], road_vclasses: frozenset[str]) -> str:
+    """Why a network cannot be driven at road scale (``""`` when it can): its widest lane
+    that road vehicles may use is narrower than :data:`MIN_ROAD_LANE_M`.
+
+    Examples
+    --------
+    >>> lane = Lane("a_0", "a", 0, 0.00035, "normal", frozenset({"passenger"}),
+    ...             np.zeros((2, 3)), 0.01, 9)
+    >>> not_at_road_scale({"a_0": lane}, frozenset({"passenger"}))[:56]
+    'not drivable at road scale: its widest road lane is 0.00'
+    >>> not_at_road_scale({}, frozenset({"passenger"}))  # no road lane: nothing to drive
+    ''
+    """
+    widths = [ln.width_m for ln in lanes.values() if not ln.allowed.isdisjoint(road_vclasses)]
+    if not widths or max(widths) >= MIN_ROAD_LANE_M:
+        return ""
+    return (f"not drivable at road scale: its widest road lane is {max(widths):.2g} m wide "
+            f"(road lanes are 2.5-5 m; a vehicle is judged on lanes of {MIN_ROAD_LANE_M:g} m "
+            "or more): is it drawn in another unit?")
 
 
 def leave_out_lanes(edges: dict[str, Edge], lanes: dict[str, Lane],

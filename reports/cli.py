@@ -9,6 +9,7 @@ import traceback
 from collections.abc import Sequence
 from importlib import import_module
 
+from reports.lifetime import Stopped, stop_on_signals
 from vehicles.errors import InputError
 
 __all__ = ["COMMANDS", "OWN_LOGGERS", "build_parser", "main"]
@@ -57,7 +58,11 @@ def main(argv: Sequence[str] | None = None) -> int:
         parser.print_help()
         return EXIT_BAD_INPUT
     try:
-        return int(args.run(args) or 0)
+        with stop_on_signals():
+            return int(args.run(args) or 0)
+    except Stopped as exc:  # SIGTERM, SIGHUP: unwound, workers and staging folder gone
+        print(f"clearance: {exc}", file=sys.stderr)
+        return exc.exit_status
     except InputError as exc:
         print(f"clearance {args.command}: error: {exc}", file=sys.stderr)
         return EXIT_BAD_INPUT

@@ -45,6 +45,7 @@ from reports.options import (
     add_selection_options,
     add_table_option,
     add_waivers_option,
+    announcer,
     selection_of,
 )
 from reports.study import METHODS, VERDICT_ORDER, Study, run_study
@@ -167,6 +168,7 @@ def run(args: argparse.Namespace) -> int:
     waivers = (read_waivers(Path(args.waivers), load_tables(args.table, warn=False).names)
                if args.waivers else [])
     study = run_study(args.net, table, args.method, args.clearance, selection=selection,
+                      announce=announcer("check"),
                       workers=args.workers, scheduler=args.scheduler,
                       swing=not args.lane_only, max_grade_pct=args.max_grade_pct)
     frame = study.frame()

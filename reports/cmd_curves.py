@@ -11,7 +11,9 @@ from collections.abc import Sequence
 from pathlib import Path
 
 from networks.curves import DEFAULT_KINDS, KINDS, Curve, CurveOptions, extract_curves
+from networks.integrity import not_at_road_scale
 from networks.loading import load_network
+from networks.model import ROAD_VCLASSES
 from reports.atomic import write_text_atomic
 from reports.options import add_net_option, add_output_option
 from reports.text_table import format_table
@@ -77,6 +79,8 @@ def run(args: argparse.Namespace) -> int:
     if not (args.approach > 0 and math.isfinite(args.approach)):
         raise InputError(f"--approach must be a positive length in metres, not {args.approach}")
     net = load_network(args.net)
+    if why := not_at_road_scale(net.lanes, ROAD_VCLASSES):  # listed, but warned of
+        print(f"clearance curves: warning: {args.net}: {why}", file=sys.stderr)
     options = CurveOptions(approach_length_m=args.approach)
     curves = extract_curves(net, args.kind or DEFAULT_KINDS, options, areas=False)
     rows = [curve_row(c) for c in curves]

@@ -51,6 +51,7 @@ from reports.options import (
     add_table_option,
     add_vehicle_option,
     add_waivers_option,
+    announcer,
     selection_of,
 )
 from reports.output_dir import Layout, output_folder
@@ -505,6 +506,7 @@ def run(args: argparse.Namespace) -> int:
             make_executor(args.workers, args.scheduler) as executor:
         fcd = staging / "fcd" if args.fcd else None
         study = run_study(nets, table, args.method, args.clearance, fcd_dir=fcd,
+                          announce=announcer("report"),
                           executor=executor, selection=selection, swing=not args.lane_only,
                           max_grade_pct=args.max_grade_pct)
         log.info("study: %d runs in %.1f s", len(study.records), time.perf_counter() - t0)

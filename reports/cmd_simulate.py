@@ -44,8 +44,9 @@ import numpy as np
 
 from analysis.tracking import TrackingSettings
 from networks.curves import DEFAULT_KINDS, Curve, CurveOptions
+from networks.integrity import not_at_road_scale
 from networks.loading import load_network
-from networks.model import Network
+from networks.model import ROAD_VCLASSES, Network
 from networks.permissions import permits
 from networks.selection import check_junctions, load_selected
 from networks.sumo.driver import (
@@ -187,6 +188,8 @@ def run(args: argparse.Namespace) -> int:
     folder = output_folder(args.output, LAYOUT) if args.output is not None else nullcontext()
     with folder as staging:
         net = load_network(args.net)
+        if why := not_at_road_scale(net.lanes, ROAD_VCLASSES):
+            raise InputError(f"{args.net}: {why}")
         kinds = tuple(dict.fromkeys(args.kind or DEFAULT_KINDS))
         selection = replace(selection_of(args), kinds=kinds)
         if selection.junctions:

@@ -38,6 +38,7 @@ from concurrent.futures.process import BrokenProcessPool
 from pathlib import Path
 from typing import Any, TypeVar
 
+from reports.lifetime import worker_start
 from vehicles.errors import InputError
 
 __all__ = ["DaskExecutor", "Executor", "LocalExecutor", "SharedFile", "WorkerLost", "cores",
@@ -112,13 +113,21 @@ class Executor(ABC):
 
     @abstractmethod
     def close(self) -> None:
-        """Stop the workers."""
+        """Stop the workers once their tasks are done."""
+
+    def abort(self) -> None:
+        """Stop the workers now, their tasks with them (the command was stopped or failed:
+        :mod:`reports.lifetime`); default: :meth:`close`."""
+        self.close()
 
     def __enter__(self) -> Executor:
         return self
 
-    def __exit__(self, *exc: object) -> None:
-        self.close()
+    def __exit__(self, kind: type[BaseException] | None, *exc: object) -> None:
+        if kind is None:
+            self.close()
+        else:
+            self.abort()
 
 
 class LocalExecutor(Executor):
@@ -135,7 +144,9 @@ class LocalExecutor(Executor):
 
     def _get(self) -> ProcessPoolExecutor:
         if self._pool is None:
-            self._pool = ProcessPoolExecutor(self.workers, mp_context=self._context)
+            self._pool = ProcessPoolExecutor(self.workers, mp_context=self._context,
+                                             initializer=worker_start,
+                                             initargs=(os.getpid(),))
         return self._pool
 
     def submit(self, fn: Callable[..., R], *args: Any) -> Future[R]:
@@ -150,6 +161,19 @@ class LocalExecutor(Executor):
         if self._pool is not None:
             self._pool.shutdown(wait=True, cancel_futures=True)
             self._pool = None
+
+    def abort(self) -> None:
+        """Kill the workers and forget the pool (``ProcessPoolExecutor`` has no public way
+        to stop a running task before Python 3.14: its ``_processes`` are killed)."""
+        pool, self._pool = self._pool, None
+        if pool is None:
+            return
+        procs = list(getattr(pool, "_processes", {}).values())
+        for proc in procs:
+            proc.kill()
+        pool.shutdown(wait=False, cancel_futures=True)
+        for proc in procs:
+            proc.join(timeout=5)
 
 
 class DaskExecutor(Executor):

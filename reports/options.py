@@ -3,15 +3,25 @@
 from __future__ import annotations
 
 import argparse
+import sys
+from collections.abc import Callable
 
 from networks.curves import KINDS
 from networks.selection import Selection, parse_bbox
 
-__all__ = ["add_clearance_option", "add_executor_options", "add_grade_option",
+__all__ = ["add_clearance_option", "announcer", "add_executor_options", "add_grade_option",
            "add_lane_only_option",
            "add_net_option", "add_output_option",
            "add_selection_options", "add_table_option", "add_units_option", "add_vehicle_option",
            "add_waivers_option", "selection_of"]
+
+
+def announcer(command: str) -> Callable[[str], None]:
+    """What a command says on stderr before its runs (how many, about how long)."""
+    def say(text: str) -> None:
+        print(f"clearance {command}: {text}", file=sys.stderr, flush=True)
+
+    return say
 
 
 def add_table_option(p: argparse.ArgumentParser) -> None:

@@ -42,8 +42,9 @@ from typing import Any, cast
 import pandas as pd
 
 from networks.curves import Curve, CurveOptions
+from networks.integrity import not_at_road_scale
 from networks.loading import load_networks
-from networks.model import Network
+from networks.model import ROAD_VCLASSES, Network
 from networks.permissions import permits
 from networks.selection import Selection, check_junctions, load_selected
 from reports.batch import Batch, bare, lost_batch, run_batch, split_batch
@@ -51,13 +52,15 @@ from reports.executor import Executor, make_executor, run_isolated
 from reports.feedback import set_serves_up_to
 from reports.records import COLUMNS, VERDICT_ORDER, RunRecord
 from reports.vertical import add_vertical
-from vehicles.errors import InputError
+from vehicles.errors import InputError, LimitError
+from vehicles.files import env_limit
 from vehicles.table import VehicleTable
 from vehicles.vehicle import Vehicle
 
-__all__ = ["APPROACH_M", "BATCH_RUNS", "COLUMNS", "METHODS", "MIN_BATCH_RUNS", "VERDICT_ORDER",
-           "NetworkCurves", "RunRecord", "Study", "batch_sizes", "batches_of", "study_networks",
-           "network_name", "permitted", "progress_bar", "run_study"]
+__all__ = ["APPROACH_M", "BATCH_RUNS", "COLUMNS", "DEFAULT_MAX_RUNS", "MAX_RUNS_ENV", "METHODS",
+           "MIN_BATCH_RUNS", "RUN_S", "VERDICT_ORDER", "NetworkCurves", "RunRecord", "Study",
+           "batch_sizes", "batches_of", "max_runs", "network_name", "permitted",
+           "progress_bar", "run_study", "study_networks"]
 
 log = logging.getLogger(__name__)
 
@@ -162,6 +165,9 @@ def study_networks(paths: Sequence[str | Path],
             log.warning("%s: named twice (as %s); studied once", p, unique[key])
         unique.setdefault(key, Path(p))
     nets = list(zip(unique.values(), load_networks(list(unique.values())), strict=True))
+    for path, net in nets:
+        if why := not_at_road_scale(net.lanes, ROAD_VCLASSES):
+            raise InputError(f"{path}: {why}")
     if selection is not None and selection.junctions:
         check_junctions(selection.junctions, [net for _, net in nets])
     for path, net in nets:
@@ -246,6 +252,7 @@ def run_study(
     use_sumo: bool = True,
     swing: bool = True,
     max_grade_pct: float | None = None,
+    announce: Callable[[str], None] | None = None,
 ) -> Study:
     """Every vehicle of ``table`` through every curve of every network (of ``selection``).
 
@@ -269,11 +276,16 @@ def run_study(
     selection
         Only the curves of this :class:`~networks.selection.Selection` (kind, junction,
         box), chosen before any area is built.
+    announce
+        Told at once, before any run, how many runs the study has and about how long they
+        take (default: logged at INFO).
 
     Raises
     ------
     InputError
         An unknown method, a negative clearance, or bad networks (named).
+    LimitError
+        More runs than :func:`max_runs` (said before any run).
     """
     if method not in METHODS:
         raise InputError(f"unknown method {method!r}: use {' or '.join(METHODS)}")
@@ -287,8 +299,22 @@ def run_study(
     refused: list[tuple[str, str, str]] = []
     allowed = {nc.name: permitted(nc, vehicles, refused) for nc in nets}
     total = sum(len(v) for a in allowed.values() for v in a.values())
+    limit = max_runs()
+    if total > limit:
+        raise LimitError(f"refused: the study has {total:,} runs ({len(vehicles):,} vehicles on "
+                         f"{sum(len(n.curves) for n in nets):,} curves), more than the limit "
+                         f"of {limit:,} (about {_duration(total * _run_s(method, swing))} "
+                         f"on one core); to run it anyway, set the environment variable "
+                         f"{MAX_RUNS_ENV} higher, or choose curves with --kind, --junction "
+                         "or --bbox")
     update = progress_bar(total, f"{method} {len(vehicles)} vehicles")
     ex = executor or make_executor(workers, scheduler, client)
+    (announce or log.info)(
+        f"{total:,} runs ({len(vehicles):,} vehicles on "
+        f"{sum(len(n.curves) for n in nets):,} curves of {len(nets)} network(s)"
+        + (f"; {len(refused):,} not permitted" if refused else "")
+        + f"): about {_duration(total * _run_s(method, swing) / ex.workers)} on "
+        f"{ex.workers} worker(s)")
     try:
         log.info("%d runs on %d worker(s); %d not permitted", total, ex.workers,
                  len(refused))
@@ -308,9 +334,12 @@ def run_study(
                 errors = sum(r.verdict == "error" for r in recs)
                 log.info("batch %s: %d runs (%d error) done at %.1f s", batch.label,
                          len(recs), errors, time.perf_counter() - t0)
-    finally:
+    except BaseException:  # stopped or failed: the workers go now (reports.lifetime)
         if executor is None:
-            ex.close()
+            ex.abort()
+        raise
+    if executor is None:
+        ex.close()
     order = {v.name: i for i, v in enumerate(vehicles)}
     net_order = {n.name: i for i, n in enumerate(nets)}
     curve_order = {(n.name, c.curve_id): i for n in nets for i, c in enumerate(n.curves)}
@@ -320,6 +349,43 @@ def run_study(
                  vehicles, max_grade_pct)
     set_serves_up_to(records, table)
     return Study(records, nets, table, method, clearance_m, sorted(refused), max_grade_pct)
+
+
+#: Wall time of one run on one core (s), measured on DRT x P, SU-30, CITY-BUS, WB-62 (stop
+#: 24: 5,974 runs, 397 s of study on 2 workers with the swung-path search, 34 s lane only),
+#: for the study's announcement; analytic runs take about a tenth of a lane run.
+RUN_S = {"simulate": 0.133 * 2, "simulate-lane": 0.0114 * 2, "analytic": 0.002}
+
+#: Default of :func:`max_runs`: about 7 h of one core with the swung-path search.
+DEFAULT_MAX_RUNS = 100_000
+
+#: The environment variable that raises the cap on a study's runs.
+MAX_RUNS_ENV = "CLEARANCE_MAX_RUNS"
+
+
+def max_runs() -> int:
+    """How many runs a study may have: ``CLEARANCE_MAX_RUNS`` if set, else
+    :data:`DEFAULT_MAX_RUNS`."""
+    return env_limit(MAX_RUNS_ENV, DEFAULT_MAX_RUNS)
+
+
+def _run_s(method: str, swing: bool) -> float:
+    return RUN_S[method if method != "simulate" or swing else "simulate-lane"]
+
+
+def _duration(seconds: float) -> str:
+    """A duration in words, rounded as an estimate is.
+
+    >>> _duration(12), _duration(95), _duration(4000), _duration(0.2)
+    ('12 s', '2 min', '1.1 h', 'a second')
+    """
+    if seconds < 1.5:
+        return "a second"
+    if seconds < 60:
+        return f"{seconds:.0f} s"
+    if seconds < 3600:
+        return f"{seconds / 60:.0f} min"
+    return f"{seconds / 3600:.1f} h"
 
 
 def permitted(nc: NetworkCurves, vehicles: Sequence[Vehicle],

@@ -32,7 +32,7 @@ import numpy as np
 import pandas as pd
 
 from vehicles.derive import LOCK_TOLERANCE, derive
-from vehicles.errors import InputError, TableError
+from vehicles.errors import InputError, LimitError, TableError
 from vehicles.files import env_limit, open_regular
 from vehicles.schema import (
     ALL_COLUMNS,
@@ -45,7 +45,8 @@ from vehicles.steering import Breakpoints, RackPinion, Schedule, Steering
 from vehicles.underside import underside_from
 from vehicles.vehicle import Trailer, Vehicle
 
-__all__ = ["DEFAULT_MAX_TABLE_BYTES", "LOCK_TOLERANCE", "MAX_TABLE_MB_ENV", "VehicleTable",
+__all__ = ["DEFAULT_MAX_TABLE_BYTES", "DEFAULT_MAX_VEHICLES", "LOCK_TOLERANCE",
+           "MAX_TABLE_MB_ENV", "MAX_VEHICLES_ENV", "VehicleTable", "max_vehicles",
            "bundled_table", "bundled_table_paths", "load_tables", "max_table_bytes",
            "read_table_text", "steering_from_row", "unknown_name_message", "vehicle_from_row"]
 
@@ -58,6 +59,24 @@ DEFAULT_MAX_TABLE_BYTES = 100_000_000
 
 #: The environment variable that raises the cap, in megabytes.
 MAX_TABLE_MB_ENV = "CLEARANCE_MAX_TABLE_MB"
+
+
+#: Default of :func:`max_vehicles`: rows of one table. The bundled tables have 40; a fleet
+#: of 2,000 models takes about 0.4 s a row to check and derive, and as many runs per curve.
+DEFAULT_MAX_VEHICLES = 2000
+
+#: The environment variable that raises the cap on rows.
+MAX_VEHICLES_ENV = "CLEARANCE_MAX_VEHICLES"
+
+
+def max_vehicles() -> int:
+    """How many vehicle rows one table may have: ``CLEARANCE_MAX_VEHICLES`` if set, else
+    :data:`DEFAULT_MAX_VEHICLES`.
+
+    >>> max_vehicles() >= 1
+    True
+    """
+    return env_limit(MAX_VEHICLES_ENV, DEFAULT_MAX_VEHICLES)
 
 
 def max_table_bytes() -> int:
@@ -239,7 +258,7 @@ def read_table_text(path: Path) -> str:
         except OSError as exc:
             raise InputError(f"{path}: cannot read vehicle table: {exc.strerror}") from None
     if len(data) > limit:
-        raise InputError(f"{path}: refused: the vehicle table is larger than {limit / 1e6:g} "
+        raise LimitError(f"{path}: refused: the vehicle table is larger than {limit / 1e6:g} "
                          f"MB; to read it anyway, set the environment variable "
                          f"{MAX_TABLE_MB_ENV} higher")
     try:
@@ -281,25 +300,33 @@ def _read_file(path: Path, problems: list[str], warnings: list[str]) -> list[dic
         bad_header = True
     if bad_header:
         return []
-    records = []
+    rows: list[tuple[int, list[str]]] = []
     line_no = reader.line_num + 1  # the line the next record starts on
     try:
         for values in reader:
             start, line_no = line_no, reader.line_num + 1
-            if not any(v.strip() for v in values):
-                continue
-            if len(values) != len(header):
-                problems.append(f"{path}:{start}: has {len(values)} fields, the header has "
-                                f"{len(header)}")
-                continue
-            raw = {h: v.strip() for h, v in zip(header, values, strict=True)}
-            rec = _row(raw, f"{path}:{start}", problems, warnings)
-            if rec is not None:
-                rec["table"] = str(path)
-                rec["line"] = start
-                records.append(rec)
+            if any(v.strip() for v in values):
+                rows.append((start, values))
     except csv.Error as exc:
         problems.append(f"{path}: not a valid CSV table: {exc}")
+    limit = max_vehicles()
+    if len(rows) > limit:  # said at once: checking them all would take minutes
+        raise LimitError(f"{path}: refused: {len(rows):,} vehicle rows, more than the limit "
+                         f"of {limit:,} (a fleet, not a catalogue: every row is a run on "
+                         f"every curve); to read it anyway, set the environment variable "
+                         f"{MAX_VEHICLES_ENV} higher")
+    records = []
+    for start, values in rows:
+        if len(values) != len(header):
+            problems.append(f"{path}:{start}: has {len(values)} fields, the header has "
+                            f"{len(header)}")
+            continue
+        raw = {h: v.strip() for h, v in zip(header, values, strict=True)}
+        rec = _row(raw, f"{path}:{start}", problems, warnings)
+        if rec is not None:
+            rec["table"] = str(path)
+            rec["line"] = start
+            records.append(rec)
     if not records and not problems:
         problems.append(f"{path}: no vehicle rows")
     return records

@@ -6,6 +6,7 @@ references SUMO refuses, and option values given twice."""
 from __future__ import annotations
 
 import gzip
+import math
 import os
 import subprocess
 import sys
@@ -33,11 +34,12 @@ def refused(capsys, argv: list[str], *expected: str) -> str:
     return err
 
 
-def run_cli(argv: list[str], env: dict[str, str] | None = None) -> subprocess.CompletedProcess:
-    """The CLI in its own process, which cannot hang the tests (30 s)."""
+def run_cli(argv: list[str], env: dict[str, str] | None = None,
+            timeout: float = 30) -> subprocess.CompletedProcess:
+    """The CLI in its own process, which cannot hang the tests (``timeout`` s)."""
     return subprocess.run([sys.executable, "-m", "reports.cli", *argv], capture_output=True,
-                          text=True, timeout=30, cwd=REPO, env={**os.environ, **(env or {})},
-                          check=False)
+                          text=True, timeout=timeout, cwd=REPO,
+                          env={**os.environ, **(env or {})}, check=False)
 
 
 # -- networks
@@ -232,3 +234,123 @@ def test_ids_with_xml_characters_are_the_networks_own(tmp_path, capsys):
     assert "<" not in prose and not re.search(r"&(?!amp;|lt;|gt;)", prose)
     html_text = (out / "report.html").read_text()
     assert "<script>" not in html_text
+
+
+# -- scale, heights
+
+def _tiny(tmp_path: Path) -> Path:
+    p = tmp_path / "tiny.net.xml"
+    p.write_text(damaged.scaled(INTERSECTION.read_text(), 1e-4))  # a junction 5 mm across
+    return p
+
+
+@pytest.mark.parametrize("command", ["report", "check", "simulate"])
+def test_a_network_drawn_10000_times_too_small_is_not_driven(tmp_path, capsys, command):
+    # every run was `clear` with a margin of `inf` ("stays inf m inside its own lanes")
+    net = _tiny(tmp_path)
+    out = tmp_path / "out"
+    argv = {"report": ["report", "-n", str(net), "--vehicle", "P", "-o", str(out)],
+            "check": ["check", "-n", str(net), "--design-vehicle", "P"],
+            "simulate": ["simulate", "-n", str(net), "--vehicle", "P", "-o", str(out)]}
+    refused(capsys, argv[command], f"{net}: not drivable at road scale: its widest road lane "
+            "is 0.00035 m wide")
+    assert not out.exists()
+    assert main(["curves", "-n", str(net)]) == 0  # SUMO loads it: listed, with the warning
+    assert "not drivable at road scale" in capsys.readouterr().err
+
+
+def test_a_run_that_sweeps_nothing_is_never_clear(tmp_path):
+    from networks.curves import CurveOptions, extract_curves
+    from networks.reader import read_network
+    from networks.sumo.driver import DriveOptions, drive
+    from vehicles.table import bundled_table, load_tables
+
+    net = read_network(_tiny(tmp_path))
+    curves = extract_curves(net, options=CurveOptions(approach_length_m=30.0))
+    car = load_tables([bundled_table("aashto_green_book")], names=["P"]).vehicles()[0]
+    runs = drive(net, [(car, c) for c in curves[:3]], options=DriveOptions(use_sumo=False))
+    for r in runs:
+        assert r.verdict == "cannot-turn" and "nothing was swept" in r.reason, r.reason
+        assert r.result is None or not math.isfinite(r.result.clearance.margin_m)
+
+
+def test_a_lone_height_of_1e6_m_is_answered_in_seconds_with_a_warning(tmp_path):
+    # the report hung building 760,766 storeys; `curves` warned in 3 s
+    text = INTERSECTION.read_text()
+    old = 'shape="520.00,1.75 415.50,1.75"'
+    p = tmp_path / "spike.net.xml"
+    p.write_text(text.replace(old, 'shape="520.00,1.75 415.50,1.75,1000000"'))
+    proc = run_cli(["report", "-n", str(p), "--vehicle", "P", "-o", str(tmp_path / "r"),
+                    "--workers", "1"], timeout=60)
+    assert proc.returncode == 0, proc.stderr
+    assert "lane TE_in_0 point 1: z 1000000.00 m" in proc.stderr
+
+
+# -- scale of the study: said at once, capped
+
+def test_a_table_of_100000_rows_is_refused_at_once_naming_the_variable(tmp_path):
+    # it ran for minutes without a word
+    bundled = (REPO / "vehicles" / "tables" / "aashto_green_book.csv").read_text().splitlines()
+    row = next(r for r in bundled if r.startswith("P,"))
+    table = tmp_path / "fleet.csv"
+    table.write_text(bundled[0] + "\n" + "".join(f"CAR{i}{row[1:]}\n" for i in range(100_000)))
+    proc = run_cli(["check", "-n", str(INTERSECTION), "-t", str(table), "--design-vehicle",
+                    "CAR1"], timeout=20)
+    assert proc.returncode == 2 and "Traceback" not in proc.stderr
+    assert (f"{table}: refused: 100,000 vehicle rows, more than the limit of 2,000"
+            in proc.stderr) and "CLEARANCE_MAX_VEHICLES" in proc.stderr
+
+
+def test_a_study_says_its_runs_and_time_first_and_refuses_above_the_cap(tmp_path, capsys):
+    out = tmp_path / "r"
+    argv = ["report", "-n", str(INTERSECTION), "--vehicle", "P", "--vehicle", "SU-30",
+            "-o", str(out), "--lane-only", "--workers", "1"]
+    proc = run_cli(argv, env={"CLEARANCE_MAX_RUNS": "10"})
+    assert proc.returncode == 2 and "Traceback" not in proc.stderr
+    assert "refused: the study has 40 runs (2 vehicles on 20 curves), more than the limit " \
+           "of 10" in proc.stderr and "CLEARANCE_MAX_RUNS" in proc.stderr
+    assert not out.exists()
+    assert main(argv) == 0
+    err = capsys.readouterr().err
+    assert "clearance report: 40 runs (2 vehicles on 20 curves of 1 network(s)): about " in err
+
+
+# -- what works stays working
+
+HEBREW_CAR = "מכונית פרטית"  # a right-to-left name, as a spreadsheet in Hebrew saves it
+ARABIC_STREET = "شارع_الملك"
+
+
+def test_a_spreadsheet_table_and_right_to_left_names_and_ids(tmp_path, capsys):
+    # "CSV UTF-8" from a spreadsheet: a byte-order mark and CRLF line ends; a vehicle named
+    # in Hebrew; a network whose street is named in Arabic
+    bundled = (REPO / "vehicles" / "tables" / "aashto_green_book.csv").read_text().splitlines()
+    row = next(r for r in bundled if r.startswith("P,"))
+    table = tmp_path / "fleet.csv"
+    table.write_bytes(("\ufeff" + bundled[0] + "\r\n" + HEBREW_CAR + row[1:] + "\r\n")
+                      .encode("utf-8"))
+    net = tmp_path / "rtl.net.xml"
+    net.write_text(HOSTILE_IDS.read_text(encoding="utf-8").replace(
+        "up:&amp;", ARABIC_STREET), encoding="utf-8")
+    out = tmp_path / "r"
+    assert main(["report", "-n", str(net), "-t", str(table), "-o", str(out),
+                 "--workers", "1"]) == 0, capsys.readouterr().err
+    import pandas as pd
+
+    frame = pd.read_csv(out / "clearance.csv", keep_default_na=False)
+    assert set(frame.vehicle) == {HEBREW_CAR}
+    assert f"turn:C<x>:in&<a>:1_0->{ARABIC_STREET}_0" in set(frame.curve_id)
+    assert HEBREW_CAR in (out / "report.md").read_text(encoding="utf-8")
+    assert HEBREW_CAR in (out / "report.html").read_text(encoding="utf-8")
+
+
+@pytest.mark.parametrize("command", ["report", "simulate"])
+def test_o_naming_an_existing_file_is_refused_and_the_file_kept(tmp_path, capsys, command):
+    target = tmp_path / "notes.txt"
+    target.write_text("my notes")
+    argv = {"report": ["report", "-n", str(INTERSECTION), "--vehicle", "P", "-o", str(target)],
+            "simulate": ["simulate", "-n", str(INTERSECTION), "--vehicle", "P", "--no-sumo",
+                         "-o", str(target)]}[command]
+    refused(capsys, argv, f"{target}: ")
+    assert target.read_text() == "my notes"
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["notes.txt"]
