@@ -12,16 +12,8 @@ Verdicts (docs/design.md §6), worst first:
 ``clear``
     It stays within its own lanes.
 
-Margins are signed distances between the envelope (grown by the clearance offset) and an
-area: ``>= 0`` is the smallest gap between the envelope and the area's boundary when the
-envelope lies inside the area; ``< 0`` is minus how far the envelope reaches beyond it (the
-largest distance from the area of any point of the envelope outside it, sought on that
-outside part's boundary by branch and bound to within ``densify_m / 2``
-(:func:`farthest_on_lines`), or at the pole of inaccessibility of a piece the envelope
-covers whole, such as an island).
-``margin_m`` is the margin to the own lanes, the one that decides between ``clear`` and
-``encroaches``. An overreach smaller than :data:`PRECISION_M` counts as zero: SUMO writes
-network coordinates to the centimetre, and its lanes kink where a smooth path does not.
+``margin_m`` is the margin to the own lanes (:mod:`clearance.analysis.margins`), the one
+that decides between ``clear`` and ``encroaches``.
 
 A run starts with the front axle on the centre line's first point, so the body then hangs
 back over whatever precedes the curve, and it ends with the front overhang past the last
@@ -36,77 +28,57 @@ from __future__ import annotations
 
 import dataclasses
 import math
-from collections.abc import Callable, Sequence
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
 import shapely
 from shapely.geometry.base import BaseGeometry
 
-from analysis.envelope import (
+from clearance.analysis.envelope import (
     DEFAULT_TOLERANCE_M,
     DEFAULT_WIDTH_STEP_M,
     SweptPath,
     ring_segments,
     swept_path,
 )
-from analysis.feature import feature_mask, feature_reason, slice_run
-from analysis.kernels import farthest_from_segments, segments_distance
-from analysis.levels import Level, finite_min, level_sweeps, worst_first
-from analysis.polyline import Path
-from analysis.tracking import TrackingRun
-from vehicles.errors import InputError
+from clearance.analysis.feature import feature_mask, feature_reason, slice_run
+from clearance.analysis.levels import Level, finite_min, level_sweeps, worst_first
+from clearance.analysis.margins import DEFAULT_DENSIFY_M, signed_margin_m, within_precision
+from clearance.analysis.polyline import Path
+from clearance.analysis.tracking import TrackingRun
+from clearance.vehicles.errors import GeometryError
 
-__all__ = ["Areas", "Clearance", "DEFAULT_DENSIFY_M", "END_SLACK_M", "NEAR_M", "NOTHING_SWEPT",
-           "PRECISION_M",
-           "RunResult", "VERDICTS", "classify", "end_boxes", "evaluate", "evaluate_batch",
-           "farthest_on_lines", "signed_margin_m", "worst_level"]
+__all__ = ["Areas", "Clearance", "END_SLACK_M", "NOTHING_SWEPT", "RunResult", "VERDICTS",
+           "classify", "end_boxes", "evaluate", "evaluate_batch", "worst_level"]
 
 VERDICTS = ("cannot-turn", "fails", "encroaches", "clear")
 """Verdicts, worst first."""
 
-DEFAULT_DENSIFY_M = 0.05
-"""An overreach is found to within half this (m); also the pole-of-inaccessibility tolerance."""
-
-NEAR_M = 5.0
-"""Margins are first sought within this distance of the envelope's bounding box (m)."""
 
 END_SLACK_M = 0.1
 """Boundaries this close to the trimmed ends of a run do not count (m): they are cuts."""
-
-PRECISION_M = 0.01
-"""Overreach below this (m) is within the network's precision and counts as a zero margin."""
-
-
-def _within_precision(margin: float) -> float:
-    """``margin``, with an overreach under :data:`PRECISION_M` taken as zero.
-
-    Examples
-    --------
-    >>> _within_precision(-0.004), _within_precision(-0.02), _within_precision(0.3)
-    (0.0, -0.02, 0.3)
-    """
-    return 0.0 if -PRECISION_M < margin < 0 else margin
 
 
 def _check_area(name: str, geom: BaseGeometry | None, required: bool) -> None:
     if geom is None:
         if required:
-            raise InputError(f"clearance areas: {name} is missing")
+            raise GeometryError(f"clearance areas: {name} is missing")
         return
     if not isinstance(geom, BaseGeometry) or geom.geom_type not in ("Polygon", "MultiPolygon"):
         kind = getattr(geom, "geom_type", type(geom).__name__)
-        raise InputError(f"clearance areas: {name} must be a Polygon or MultiPolygon, got {kind}")
+        raise GeometryError(f"clearance areas: {name} must be a Polygon or MultiPolygon, "
+                            f"got {kind}")
     if geom.is_empty:
-        raise InputError(f"clearance areas: {name} is empty")
+        raise GeometryError(f"clearance areas: {name} is empty")
     if not geom.is_valid:
-        raise InputError(f"clearance areas: {name} is not a valid polygon: "
+        raise GeometryError(f"clearance areas: {name} is not a valid polygon: "
                          f"{shapely.is_valid_reason(geom)}")
 
 
 def _check_offset(offset_m: float) -> None:
     if not (isinstance(offset_m, int | float) and math.isfinite(offset_m) and offset_m >= 0):
-        raise InputError(f"clearance offset must be a number >= 0 m, got {offset_m!r}")
+        raise ValueError(f"clearance offset must be a number >= 0 m, got {offset_m!r}")
 
 
 def _grown(clearance: Clearance, offset_m: float) -> str:
@@ -131,7 +103,7 @@ class Areas:
         margin is reported, it does not change the verdict.
     levels
         The curve's level segments, each with the areas of its storey
-        (:class:`analysis.levels.Level`); empty (the default) judges in plan against the
+        (:class:`clearance.analysis.levels.Level`); empty (the default) judges in plan against the
         three areas above. :func:`evaluate` then judges each segment's part of the sweep
         against its own storey's areas.
 
@@ -143,7 +115,7 @@ class Areas:
     >>> Areas(shapely.box(0, 0, 10, 3), shapely.LineString([(0, 0), (1, 1)]))
     Traceback (most recent call last):
     ...
-    vehicles.errors.InputError: clearance areas: paved must be a Polygon or MultiPolygon, ...
+    clearance.vehicles.errors.GeometryError: clearance areas: paved must be a Polygon or ...
     """
 
     own_lanes: BaseGeometry
@@ -182,163 +154,6 @@ class Areas:
         if name not in self._segments:
             self._segments[name] = np.stack(ring_segments(getattr(self, name)), axis=1)
         return self._segments[name]
-
-
-def signed_margin_m(
-    envelope: BaseGeometry,
-    area: BaseGeometry,
-    area_boundary: BaseGeometry | None = None,
-    densify_m: float = DEFAULT_DENSIFY_M,
-    ignore: BaseGeometry | None = None,
-    area_segments: np.ndarray | None = None,
-) -> float:
-    """Signed margin of an envelope in an area (see the module docstring).
-
-    ``ignore`` (optional) is a region where the area's boundary does not count for the gap
-    inside: the lanes' ends where the envelope was trimmed (:func:`end_boxes`).
-    ``area_segments`` (optional) are the area's boundary segments (:meth:`Areas.segments`),
-    found here when not given.
-
-    Examples
-    --------
-    A 2 m wide envelope centred in a 3.5 m lane has 0.75 m to spare on each side:
-
-    >>> lane = shapely.box(0.0, 0.0, 50.0, 3.5)
-    >>> signed_margin_m(shapely.box(10.0, 0.75, 20.0, 2.75), lane)
-    0.75
-
-    Shifted 1 m to the left it reaches 0.25 m beyond the lane:
-
-    >>> signed_margin_m(shapely.box(10.0, 1.75, 20.0, 3.75), lane)
-    -0.25
-
-    Exactly on the boundary the margin is zero:
-
-    >>> signed_margin_m(shapely.box(10.0, 1.5, 20.0, 3.5), lane)
-    0.0
-    """
-    if envelope.is_empty:
-        raise InputError("signed_margin_m: the envelope is empty")
-    beyond = None  # the envelope beyond the area, computed only when it is not covered
-    if not shapely.covers(area, envelope):  # a quick test against the prepared area first
-        beyond = shapely.difference(envelope, area)
-    outside = beyond
-    if beyond is not None and ignore is not None and shapely.area(beyond) >= 1e-6:
-        outside = shapely.difference(beyond, ignore)
-    if outside is None or shapely.area(outside) < 1e-6:
-        # covered, but for slivers under a square millimetre (floating-point noise along a
-        # shared edge) and what pokes out in the ignored region (past the trimmed ends)
-        boundary = area_boundary if area_boundary is not None else shapely.boundary(area)
-        # Only the boundary near the envelope can be nearest: look within a window first
-        # (a junction's boundary is long, an envelope local), the whole boundary if need be.
-        x0, y0, x1, y1 = envelope.bounds
-        for reach in (NEAR_M, math.inf):
-            near = boundary
-            if math.isfinite(reach):
-                near = shapely.clip_by_rect(boundary, x0 - reach, y0 - reach, x1 + reach,
-                                            y1 + reach)
-            if ignore is not None:
-                near = shapely.difference(near, ignore)
-            if near.is_empty:
-                continue
-            gap = float(shapely.distance(envelope, near))
-            if gap <= reach:
-                return gap
-        return math.inf
-    # the deepest point lies on the envelope's boundary beyond the area, or, where a piece
-    # beyond the area holds none of it (an island the envelope covers whole), at the
-    # piece's pole of inaccessibility
-    lines = shapely.difference(shapely.boundary(envelope), area)
-    pieces = shapely.get_parts(beyond)
-    pieces = pieces[~shapely.is_empty(pieces) & (shapely.area(pieces) > 0)]
-    lone = pieces[~shapely.intersects(pieces, lines)] if not lines.is_empty else pieces
-    extra = np.empty((0, 2))
-    if len(lone):
-        circles = shapely.maximum_inscribed_circle(lone, densify_m)
-        extra = shapely.get_coordinates(shapely.get_point(circles, 0))
-    coords, part = shapely.get_coordinates(shapely.get_parts(lines), return_index=True)
-    probe = np.concatenate([coords, extra])
-    if not len(probe):
-        return 0.0
-    # Distances to the area's boundary segments that reach into a window about the probes
-    # first (every probe lies outside the area, so its distance to the area is that to the
-    # boundary): one no larger than the window's margin is exact (the nearest boundary point
-    # then lies in the window, on one of those segments); a larger one is measured on the area.
-    segs = area_segments if area_segments is not None else np.stack(ring_segments(area), axis=1)
-    lo, hi = probe.min(axis=0) - NEAR_M, probe.max(axis=0) + NEAR_M
-    into = (np.all(np.maximum(segs[:, 0], segs[:, 1]) >= lo, axis=1)
-            & np.all(np.minimum(segs[:, 0], segs[:, 1]) <= hi, axis=1))
-    segs = np.ascontiguousarray(segs[into])
-
-    def distance(xy: np.ndarray) -> np.ndarray:
-        d = segments_distance(xy, segs)
-        far = ~(d <= NEAR_M)
-        if far.any():
-            d[far] = shapely.distance(shapely.points(xy[far]), area)
-        return d
-
-    # compiled; the same search with the area's own distance when a probe is beyond the window
-    deepest = farthest_from_segments(coords, part[1:] == part[:-1], segs, densify_m / 2, NEAR_M)
-    if math.isnan(deepest):
-        deepest = farthest_on_lines(lines, distance, densify_m / 2)
-    if len(extra):
-        deepest = max(deepest, float(np.max(distance(extra))))
-    return -deepest
-
-
-def farthest_on_lines(
-    lines: BaseGeometry,
-    distance: Callable[[np.ndarray], np.ndarray],
-    tolerance_m: float,
-) -> float:
-    """Largest value of a distance function over lines, found to within ``tolerance_m``.
-
-    ``distance`` maps ``(k, 2)`` points to ``(k,)`` distances and must be 1-Lipschitz (a
-    distance to a fixed set is). Branch and bound: on a segment of length ``L`` whose ends
-    are at ``d_a`` and ``d_b`` no point is farther than ``(d_a + d_b + L) / 2``, so only
-    segments that could beat the best point found so far by more than the tolerance are
-    halved and probed at their midpoints, until none is left. The result is short of the
-    true maximum by at most ``tolerance_m``, with far fewer probes than an even densification
-    where most of the lines are not the farthest.
-
-    Examples
-    --------
-    The distance from a circle of radius 1 about the origin, along a 10 m segment through it:
-
-    >>> line = shapely.LineString([(-5.0, 0.2), (5.0, 0.2)])
-    >>> to_circle = lambda p: np.abs(np.hypot(p[:, 0], p[:, 1]) - 1.0)
-    >>> round(farthest_on_lines(line, to_circle, 0.01), 2)
-    4.0
-
-    The farthest point inside a segment, not at its ends (the distance to the x axis along a
-    roof line); and no lines at all:
-
-    >>> roof = shapely.LineString([(0.0, 0.0), (4.0, 3.0), (8.0, 0.0)])
-    >>> farthest_on_lines(roof, lambda p: np.abs(p[:, 1]), 0.01)
-    3.0
-    >>> farthest_on_lines(shapely.LineString(), lambda p: np.abs(p[:, 1]), 0.01)
-    0.0
-    """
-    coords, part = shapely.get_coordinates(shapely.get_parts(lines), return_index=True)
-    if not len(coords):
-        return 0.0
-    d = distance(coords)
-    best = float(np.max(d))
-    joined = part[1:] == part[:-1]
-    a, b = coords[:-1][joined], coords[1:][joined]
-    da, db = d[:-1][joined], d[1:][joined]
-    while len(a):
-        bound = 0.5 * (da + db + np.hypot(b[:, 0] - a[:, 0], b[:, 1] - a[:, 1]))
-        open_ = bound > best + tolerance_m
-        if not open_.any():
-            break
-        a, b, da, db = a[open_], b[open_], da[open_], db[open_]
-        mid = 0.5 * (a + b)
-        dm = distance(mid)
-        best = max(best, float(np.max(dm)))
-        a, b = np.concatenate([a, mid]), np.concatenate([mid, b])
-        da, db = np.concatenate([da, dm]), np.concatenate([dm, db])
-    return best
 
 
 @dataclass(frozen=True)
@@ -399,7 +214,7 @@ def classify(
         An overreach is found to within half this (m).
     ignore
         Region where the areas' boundaries do not count for the gaps (see
-        :func:`signed_margin_m`).
+        :func:`~clearance.analysis.margins.signed_margin_m`).
 
     Examples
     --------
@@ -430,7 +245,7 @@ def classify(
     for name in ("own_lanes", "paved", "roadway"):
         area = getattr(areas, name)
         if area is not None:
-            margins[name] = _within_precision(signed_margin_m(
+            margins[name] = within_precision(signed_margin_m(
                 grown, area, areas.boundary(name), densify_m, ignore, areas.segments(name)))
     own, paved, road = margins["own_lanes"], margins["paved"], margins.get("roadway")
     if not (math.isfinite(own) and math.isfinite(paved)):  # no area to judge against
@@ -462,7 +277,7 @@ def end_boxes(path: Path, reach_m: float) -> BaseGeometry:
     --------
     A straight 10 m path: the body behind the start and ahead of the end goes.
 
-    >>> from analysis.polyline import prepare_path
+    >>> from clearance.analysis.polyline import prepare_path
     >>> p = prepare_path([(0.0, 0.0), (10.0, 0.0)])
     >>> boxes = end_boxes(p, 8.0)
     >>> shapely.difference(shapely.box(-5.0, -1.0, 12.0, 1.0), boxes).bounds
@@ -528,9 +343,9 @@ def evaluate(
 
     With ``feature_m`` (where the feature begins and ends along the centre line, e.g. a
     curve's ``core_start_m`` and ``core_end_m``), only the samples while some part of the
-    vehicle is in the feature decide (:func:`analysis.feature.feature_mask`): the envelope
+    vehicle is in the feature decide (:func:`clearance.analysis.feature.feature_mask`): the envelope
     is swept over them, and a tracking error beyond the tolerance counts only there
-    (:func:`analysis.feature.feature_reason`). What happens on the lead-in and run-out
+    (:func:`clearance.analysis.feature.feature_reason`). What happens on the lead-in and run-out
     belongs to the neighbouring curves. Without it the whole run decides.
 
     The envelope is grown by ``offset_m``, trimmed at the path's ends when ``trim_ends``
@@ -538,8 +353,8 @@ def evaluate(
 
     Examples
     --------
-    >>> from analysis.tracking import simulate
-    >>> from vehicles.vehicle import Vehicle
+    >>> from clearance.analysis.tracking import simulate
+    >>> from clearance.vehicles.vehicle import Vehicle
     >>> car = Vehicle("car", 2.7, 1.5, 1.8, 0.9, 1.0, 0.6, 0.65, 0.5)
     >>> run = simulate(car, [(0.0, 1.75), (30.0, 1.75)])
     >>> areas = Areas(shapely.box(-10, 0, 40, 3.5), shapely.box(-10, -3.5, 40, 7.0))
@@ -598,12 +413,12 @@ def evaluate(
 
 def worst_level(found: list[tuple[Level, tuple[float, float], Clearance]]) -> Clearance:
     """The worst level stretch's verdict and reason (naming it), the least margins
-    (:mod:`analysis.levels`; ``found`` holds each stretch's level, its stations and its
+    (:mod:`clearance.analysis.levels`; ``found`` holds each stretch's level, its stations and its
     clearance).
 
     Examples
     --------
-    >>> from analysis.levels import Level
+    >>> from clearance.analysis.levels import Level
     >>> lv = Level(0.0, 1.0, None)
     >>> a = Clearance("clear", 0.2, 0.5, None, 0.0, "stays")
     >>> b = Clearance("encroaches", -0.1, 0.3, None, 0.0, "leaves")
@@ -640,6 +455,6 @@ def evaluate_batch(
     else:
         per_run = list(areas)
         if len(per_run) != len(runs):
-            raise InputError(f"evaluate_batch: {len(runs)} runs but {len(per_run)} area sets")
+            raise ValueError(f"evaluate_batch: {len(runs)} runs but {len(per_run)} area sets")
     return [evaluate(r, a, offset_m, tolerance_m, width_step_m)
             for r, a in zip(runs, per_run, strict=True)]

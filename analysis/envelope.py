@@ -41,11 +41,10 @@ Swept width
     At stations every ``width_step_m`` along the centre line (up to the front axle's last
     station), the length of the piece of the normal line through the centre-line point that
     lies inside the envelope and contains that point. The maximum over the stations is
-    reported; in a steady turn it equals
-    ``sqrt((rho + B/2)^2 + (l + a_f)^2) - (rho - B/2)`` (docs/design.md §4). Where the
-    envelope overlaps itself across a normal (a path that comes back near itself), the
-    overlapping part counts too; near the path's end the parts of the body that trail the
-    front axle have not swept yet, so the widths there are partial.
+    reported; in a steady turn it equals ``sqrt((rho + B/2)^2 + (l + a_f)^2) - (rho - B/2)``
+    (docs/design.md §4). Where the envelope overlaps itself across a normal (a path that comes back
+    near itself), the overlapping part counts too; near the path's end the parts of the body that
+    trail the front axle have not swept yet, so the widths there are partial.
 """
 
 from __future__ import annotations
@@ -59,15 +58,15 @@ import shapely
 from numpy.typing import NDArray
 from shapely.geometry.base import BaseGeometry
 
-from analysis.kernels import (
+from clearance.analysis.kernels import (
     greedy_keys,
     look_back_distance,
     normal_widths,
     pair_hulls,
     vertex_path_bounds,
 )
-from analysis.tracking import TrackingRun, Trajectory
-from vehicles.vehicle import Vehicle
+from clearance.analysis.tracking import TrackingRun, Trajectory
+from clearance.vehicles.vehicle import Vehicle
 
 __all__ = ["DEFAULT_TOLERANCE_M", "DEFAULT_WIDTH_STEP_M", "SweptPath", "body_corners",
            "body_points", "interval_hulls", "key_samples", "ring_segments", "sweep", "swept_path",
@@ -221,7 +220,7 @@ def key_samples(
 def interval_hulls(corners: FloatArray) -> NDArray[np.object_]:
     """Convex hulls of a quadrilateral's consecutive positions, ``(n, 4, 2)`` -> ``n - 1``.
 
-    Compiled (:func:`analysis.kernels.pair_hulls`); where a hull has no area (a body of no
+    Compiled (:func:`clearance.analysis.kernels.pair_hulls`); where a hull has no area (a body of no
     width moving along itself) GEOS's convex hull takes over, which gives line strings.
 
     Examples
@@ -315,7 +314,8 @@ def _offtracking(
 
     The front path is extended straight back from its start; the window of sample ``i`` is
     the path's segments from ``2 |f_i - q_i| + 1`` metres of arc behind its point ``i`` up
-    to that point, every one of them searched (:func:`analysis.kernels.look_back_distance`).
+    to that point, every one of them searched
+    (:func:`clearance.analysis.kernels.look_back_distance`).
     """
     gap = np.hypot(fx - qx, fy - qy)
     back = float(gap.max()) * 2.0 + 1.0
@@ -331,7 +331,7 @@ def wheel_tracks(vehicle: Vehicle, traj: Trajectory) -> dict[str, shapely.LineSt
 
     Examples
     --------
-    >>> from analysis.tracking import simulate
+    >>> from clearance.analysis.tracking import simulate
     >>> car = Vehicle("car", 2.7, 1.5, 1.8, 0.9, 1.0, 0.6, 0.65, 0.5)
     >>> run = simulate(car, [(0.0, 0.0), (10.0, 0.0)])
     >>> tracks = wheel_tracks(car, run.trajectory)
@@ -400,7 +400,7 @@ def swept_widths(
 
     Examples
     --------
-    >>> from analysis.tracking import simulate
+    >>> from clearance.analysis.tracking import simulate
     >>> car = Vehicle("car", 2.7, 1.5, 1.8, 0.9, 1.0, 0.6, 0.65, 0.5)
     >>> run = simulate(car, [(0.0, 0.0), (10.0, 0.0)])
     >>> env = shapely.box(-4.0, -0.5, 11.0, 1.5)
@@ -436,7 +436,7 @@ def swept_path(
     Parameters
     ----------
     run
-        A run from :func:`analysis.tracking.simulate_batch`.
+        A run from :func:`clearance.analysis.tracking.simulate_batch`.
     tolerance_m
         Largest gap between the true swept area and the envelope polygon (m).
     width_step_m
@@ -449,7 +449,7 @@ def swept_path(
     Straight ahead: the envelope is the body stretched by the distance driven, the swept
     width is the body width and nothing offtracks.
 
-    >>> from analysis.tracking import simulate
+    >>> from clearance.analysis.tracking import simulate
     >>> car = Vehicle("car", 2.7, 1.5, 1.8, 0.9, 1.0, 0.6, 0.65, 0.5)
     >>> sp = swept_path(simulate(car, [(0.0, 0.0), (10.0, 0.0)]))
     >>> round(sp.envelope.area, 6), round(sp.max_swept_width_m, 9)

@@ -14,7 +14,7 @@ from typing import Any
 
 import numpy as np
 
-from analysis.tracking import TrackingRun
+from clearance.analysis.tracking import TrackingRun
 
 __all__ = ["feature_mask", "feature_reason", "slice_run"]
 
@@ -33,8 +33,8 @@ def feature_mask(run: TrackingRun, feature_m: tuple[float, float]) -> np.ndarray
     --------
     A 4.5 m car (front overhang 0.9 m) driving stations 0..30 through a feature at 10..12:
 
-    >>> from analysis.tracking import simulate
-    >>> from vehicles.vehicle import Vehicle
+    >>> from clearance.analysis.tracking import simulate
+    >>> from clearance.vehicles.vehicle import Vehicle
     >>> car = Vehicle("car", 2.7, 1.5, 1.8, 0.9, 1.0, 0.6, 0.65, 0.5)
     >>> run = simulate(car, [(0.0, 0.0), (30.0, 0.0)])
     >>> s = run.trajectory.s_m[feature_mask(run, (10.0, 12.0))]
@@ -65,15 +65,15 @@ def slice_run(run: TrackingRun, keep: np.ndarray) -> TrackingRun:
 def feature_reason(run: TrackingRun, mask: np.ndarray) -> str:
     """Why the run cannot turn *in the feature* (the samples ``mask``), or ``""``.
 
-    The tracking's own :attr:`~analysis.tracking.TrackingRun.reason` judges the whole run,
+    The tracking's own :attr:`~clearance.analysis.tracking.TrackingRun.reason` judges the whole run,
     lead-in and run-out included; here only what happens while the vehicle is in the
     feature counts: a lateral error beyond the tolerance there, a jackknife there, or a
     run that stopped before the vehicle had left the feature (it never got through).
 
     Examples
     --------
-    >>> from analysis.tracking import simulate
-    >>> from vehicles.vehicle import Vehicle
+    >>> from clearance.analysis.tracking import simulate
+    >>> from clearance.vehicles.vehicle import Vehicle
     >>> car = Vehicle("car", 2.7, 1.5, 1.8, 0.9, 1.0, 0.6, 0.65, 0.5)
     >>> run = simulate(car, [(0.0, 0.0), (30.0, 0.0)])
     >>> feature_reason(run, feature_mask(run, (10.0, 12.0)))

@@ -2,7 +2,7 @@
 
 Each function is a plain loop over points and segments, compiled by numba on first use and
 cached beside this file, so the envelope of a run costs no per-element Python work. They
-are the hot path of :mod:`analysis.envelope` and :mod:`analysis.clearance`; the
+are the hot path of :mod:`clearance.analysis.envelope` and :mod:`clearance.analysis.clearance`; the
 definitions (what is measured) live there, these only compute.
 
 All lengths are in metres; arrays are float64 unless said otherwise.
@@ -194,7 +194,7 @@ def farthest_from_segments(coords: np.ndarray, joined: np.ndarray, segs: np.ndar
 
     The lines are the points ``coords`` ``(k, 2)``, point ``i`` joined to point ``i + 1``
     where ``joined[i]``. The same search, in the same rounds, as
-    :func:`analysis.clearance.farthest_on_lines` with :func:`segments_distance` as the
+    :func:`clearance.analysis.margins.farthest_on_lines` with :func:`segments_distance` as the
     distance (short of the maximum by at most ``tolerance_m``). Returns ``nan`` as soon as a
     probed point lies farther than ``reach_m`` from every segment: the caller then needs a
     distance the segments cannot give.
@@ -479,7 +479,7 @@ def project_near(px: np.ndarray, py: np.ndarray, path_xy: np.ndarray, n_points: 
                  ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:  # pragma: no cover
     """Project point ``i`` onto path ``i``, searching segments ``segment[i] - 1`` onward.
 
-    The body of :func:`analysis.polyline.project_window` (its docstring says what it
+    The body of :func:`clearance.analysis.polyline.project_window` (its docstring says what it
     returns): the ``window + 2`` segments from one behind the previous match are searched,
     the first and last segments extended beyond the path's ends.
 

@@ -30,8 +30,6 @@ from typing import Literal
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from vehicles.errors import InputError
-
 __all__ = ["CRAWL_SPEED_M_S", "SpeedProfile", "arc_step", "as_speed_profile",
            "curvature_from_steer", "euler_step", "integrate", "limit_steering", "ramp_arc",
            "ramp_step"]
@@ -296,12 +294,12 @@ def integrate(
     (1,)
     """
     if not dt_s > 0 or not math.isfinite(dt_s):
-        raise InputError(f"integrate: time step dt_s must be a positive number, got {dt_s!r}")
+        raise ValueError(f"integrate: time step dt_s must be a positive number, got {dt_s!r}")
     if n_steps < 0:
-        raise InputError(f"integrate: n_steps must be >= 0, got {n_steps!r}")
+        raise ValueError(f"integrate: n_steps must be >= 0, got {n_steps!r}")
     step = {"arc": arc_step, "euler": euler_step}.get(method)
     if step is None:
-        raise InputError(f"integrate: method must be 'arc' or 'euler', got {method!r}")
+        raise ValueError(f"integrate: method must be 'arc' or 'euler', got {method!r}")
     x, y, th, v, phi, wb = np.broadcast_arrays(
         *(np.asarray(a, dtype=np.float64) for a in (x0_m, y0_m, theta0_rad, speed_m_s, phi_rad,
                                                  wheelbase_m))
@@ -382,20 +380,20 @@ class SpeedProfile:
 
     def __post_init__(self) -> None:
         if self.by not in ("station", "time"):
-            raise InputError(f"speed profile: 'by' must be 'station' or 'time', got {self.by!r}")
+            raise ValueError(f"speed profile: 'by' must be 'station' or 'time', got {self.by!r}")
         at = np.asarray(self.at, dtype=np.float64)
         v = np.asarray(self.speed_m_s, dtype=np.float64)
         if at.ndim != 1 or at.shape != v.shape or at.size == 0:
-            raise InputError(
+            raise ValueError(
                 f"speed profile: breakpoints and speeds must be equal-length, non-empty "
                 f"lists, got {at.size} breakpoints and {v.size} speeds"
             )
         if not (np.all(np.isfinite(at)) and np.all(np.isfinite(v))):
-            raise InputError("speed profile: breakpoints and speeds must be finite numbers")
+            raise ValueError("speed profile: breakpoints and speeds must be finite numbers")
         if np.any(np.diff(at) <= 0):
-            raise InputError(f"speed profile: breakpoints must increase strictly, got {self.at}")
+            raise ValueError(f"speed profile: breakpoints must increase strictly, got {self.at}")
         if np.any(v <= 0):
-            raise InputError(
+            raise ValueError(
                 "speed profile: every speed must be > 0 m/s (forward driving), "
                 f"got {self.speed_m_s}"
             )
@@ -434,9 +432,9 @@ def as_speed_profile(speed: float | SpeedProfile) -> SpeedProfile:
     try:
         value = float(speed)
     except (TypeError, ValueError):
-        raise InputError(
+        raise ValueError(
             f"speed must be a number in m/s or a SpeedProfile, got {speed!r}"
         ) from None
     if not math.isfinite(value):
-        raise InputError(f"speed must be a finite number in m/s, got {speed!r}")
+        raise ValueError(f"speed must be a finite number in m/s, got {speed!r}")
     return SpeedProfile.constant(value)

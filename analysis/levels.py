@@ -40,9 +40,9 @@ import numpy as np
 import shapely
 from shapely.geometry.base import BaseGeometry
 
-from analysis.envelope import swept_path
-from analysis.feature import feature_mask, slice_run
-from analysis.tracking import TrackingRun
+from clearance.analysis.envelope import swept_path
+from clearance.analysis.feature import feature_mask, slice_run
+from clearance.analysis.tracking import TrackingRun
 
 __all__ = ["CORRIDOR_OVERLAP_M", "LEVEL_BAND_M", "LEVEL_STEP_M", "Level", "SLOT_HYSTERESIS_M",
            "band_pieces", "corridor", "finite_min", "is_flat", "level_slots", "level_sweeps",
@@ -68,13 +68,14 @@ class Level:
         The slot (m): the stations of a path whose height lies in it are judged against
         :attr:`areas` (:func:`path_segments`).
     areas
-        Own lanes, paved area and roadway of that storey (:class:`analysis.clearance.Areas`):
+        Own lanes, paved area and roadway of that storey
+        (:class:`clearance.analysis.clearance.Areas`):
         the parts within :data:`LEVEL_BAND_M` of :attr:`z_m`.
     """
 
     z_lo_m: float
     z_hi_m: float
-    areas: Any  # analysis.clearance.Areas (which holds levels: not imported here)
+    areas: Any  # clearance.analysis.clearance.Areas (which holds levels: not imported here)
 
     @property
     def z_m(self) -> float:
@@ -256,9 +257,9 @@ def level_sweeps(
     A car up a 30 m ramp rising 3 m, in slots of 1 m: three stretches, each a part of the
     sweep; a path without heights has none.
 
-    >>> from analysis.polyline import prepare_path
-    >>> from analysis.tracking import simulate
-    >>> from vehicles.vehicle import Vehicle
+    >>> from clearance.analysis.polyline import prepare_path
+    >>> from clearance.analysis.tracking import simulate
+    >>> from clearance.vehicles.vehicle import Vehicle
     >>> car = Vehicle("car", 2.7, 1.5, 1.8, 0.9, 1.0, 0.6, 0.65, 0.5)
     >>> levels = [Level(float(k), k + 1.0, None) for k in range(3)]
     >>> run = simulate(car, prepare_path([(0.0, 0.0, 0.0), (30.0, 0.0, 3.0)]))

@@ -6,7 +6,7 @@ outside the area the verdict is decided on, its station along the curve's centre
 and the *extra width*: how far the area would have to be widened, there and wherever
 else the envelope leaves it, for the envelope to stay inside it.
 
-The farthest point is sought as :func:`analysis.clearance.signed_margin_m` seeks the
+The farthest point is sought as :func:`clearance.analysis.margins.signed_margin_m` seeks the
 overreach: on the envelope's boundary beyond the area, and at the pole of inaccessibility
 of a piece beyond the area that holds none of that boundary (an island the envelope covers
 whole). The boundary is probed every ``2 tolerance_m``; the distance to the area is

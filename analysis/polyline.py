@@ -22,8 +22,8 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from analysis.kernels import project_near
-from vehicles.errors import InputError
+from clearance.analysis.kernels import project_near
+from clearance.vehicles.errors import GeometryError
 
 __all__ = ["DEFAULT_SPACING_M", "Path", "SMOOTH_SIGMA_M", "catmull_rom", "fit_circle",
            "prepare_path", "project_window", "smooth_polyline"]
@@ -261,6 +261,14 @@ def smooth_polyline(points: ArrayLike, spacing_m: float, sigma_m: float = SMOOTH
     True
     >>> smooth_polyline([(0.0, 0.0), (10.0, 0.0)], 1.0)[:, 1].tolist() == [0.0] * 11
     True
+
+    A line shorter than the filter's reach (3 ``sigma_m``) is smoothed over all its points
+    and stays straight:
+
+    >>> short = smooth_polyline([(0.0, 0.0), (2.9, 1.36)], 0.1)
+    >>> d = short - short[0]
+    >>> len(short), bool(np.abs(d[:, 0] * 1.36 - d[:, 1] * 2.9).max() < 1e-9)
+    (34, True)
     """
     vertices = np.asarray(points, dtype=np.float64)
     # at an end that is a piece of arc the mirror's normal is a fitted circle's (SUMO's 1 cm
@@ -286,8 +294,7 @@ def smooth_polyline(points: ArrayLike, spacing_m: float, sigma_m: float = SMOOTH
         # the points next to an end, mirrored across the line's normal there: a straight
         # line goes on straight and a circle goes on round its own centre
         p0 = a[end]
-        near = a[end + step: end + step * (half + 1): step] if step > 0 else \
-            a[end - 1: end - half - 1: -1]
+        near = a[end + step::step][:half]  # the half points next to the end, inwards
         # second-order one-sided difference: the tangent of a curve, not of a chord
         tan = 4 * a[end + step, :2] - a[end + 2 * step, :2] - 3 * p0[:2]
         w = arc_end[0 if step > 0 else 1]
@@ -336,9 +343,11 @@ def prepare_path(
 
     Raises
     ------
-    vehicles.errors.InputError
-        Wrong shape, non-finite coordinates, fewer than two distinct points, or a reversal
-        (a vertex where the polyline turns back by more than 179 degrees).
+    clearance.vehicles.errors.GeometryError
+        Non-finite coordinates, fewer than two distinct points, or a reversal (a vertex
+        where the polyline turns back by more than 179 degrees).
+    ValueError
+        Not an (N, 2) or (N, 3) array of numbers, or a spacing that is not positive.
 
     Examples
     --------
@@ -358,20 +367,20 @@ def prepare_path(
     try:
         pts = np.asarray(points, dtype=np.float64)
     except (TypeError, ValueError) as exc:
-        raise InputError(f"{name}: centre line is not an array of numbers ({exc})") from None
+        raise ValueError(f"{name}: centre line is not an array of numbers ({exc})") from None
     if pts.ndim != 2 or pts.shape[1] not in (2, 3):
-        raise InputError(f"{name}: centre line must be an (N, 2) or (N, 3) array, got {pts.shape}")
+        raise ValueError(f"{name}: centre line must be an (N, 2) or (N, 3) array, got {pts.shape}")
     if not np.all(np.isfinite(pts)):
         bad = int(np.flatnonzero(~np.all(np.isfinite(pts), axis=1))[0])
-        raise InputError(f"{name}: centre line point {bad} is not finite: {pts[bad].tolist()}")
+        raise GeometryError(f"{name}: centre line point {bad} is not finite: {pts[bad].tolist()}")
     if not (spacing_m > 0 and math.isfinite(spacing_m)):
-        raise InputError(f"{name}: spacing_m must be a positive number, got {spacing_m!r}")
+        raise ValueError(f"{name}: spacing_m must be a positive number, got {spacing_m!r}")
     seg = np.diff(pts[:, :2], axis=0)
     seg_len = np.hypot(seg[:, 0], seg[:, 1])
     keep = np.concatenate([[True], seg_len > 1e-9])
     pts = pts[keep]
     if len(pts) < 2:
-        raise InputError(f"{name}: centre line needs at least two distinct points")
+        raise GeometryError(f"{name}: centre line needs at least two distinct points")
     if smooth:
         pts = smooth_polyline(pts, spacing_m)
         seg_len = np.hypot(*np.diff(pts[:, :2], axis=0).T)
@@ -382,7 +391,7 @@ def prepare_path(
     turn = np.abs(np.diff(seg_heading))
     if np.any(turn > math.radians(179.0)):
         bad = int(np.flatnonzero(turn > math.radians(179.0))[0]) + 1
-        raise InputError(f"{name}: centre line turns back on itself at point {bad}")
+        raise GeometryError(f"{name}: centre line turns back on itself at point {bad}")
     vert_station = np.concatenate([[0.0], np.cumsum(seg_len)])
     length = float(vert_station[-1])
     # heading breakpoints: the turn at interior vertex v ramps over S_v -+ r_v
@@ -468,8 +477,10 @@ def fit_circle(x: ArrayLike, y: ArrayLike) -> tuple[float, float, float]:
 
     Raises
     ------
-    vehicles.errors.InputError
-        Fewer than three points, or collinear points (a straight line has no finite circle).
+    clearance.vehicles.errors.GeometryError
+        Collinear points (a straight line has no finite circle).
+    ValueError
+        Fewer than three points, or unequal counts of x and y.
 
     Examples
     --------
@@ -482,22 +493,22 @@ def fit_circle(x: ArrayLike, y: ArrayLike) -> tuple[float, float, float]:
     >>> fit_circle([0.0, 1.0, 2.0], [1.0, 3.0, 5.0])
     Traceback (most recent call last):
     ...
-    vehicles.errors.InputError: fit_circle: the points are (nearly) collinear; no finite circle
+    clearance.vehicles.errors.GeometryError: fit_circle: the points are (nearly) collinear; ...
     """
     xs = np.asarray(x, dtype=np.float64).ravel()
     ys = np.asarray(y, dtype=np.float64).ravel()
     if xs.size < 3 or xs.size != ys.size:
-        raise InputError("fit_circle: needs at least three (x, y) points of equal count")
+        raise ValueError("fit_circle: needs at least three (x, y) points of equal count")
     mx, my = xs.mean(), ys.mean()
     u, w = xs - mx, ys - my
     spread = np.linalg.svd(np.stack([u, w], axis=1), compute_uv=False)
     if spread[0] == 0 or spread[1] <= 1e-9 * spread[0]:
-        raise InputError("fit_circle: the points are (nearly) collinear; no finite circle")
+        raise GeometryError("fit_circle: the points are (nearly) collinear; no finite circle")
     a = np.stack([u, w, np.ones_like(u)], axis=1)
     b = -(u * u + w * w)
     (d, e, f), *_ = np.linalg.lstsq(a, b, rcond=None)
     r2 = (d * d + e * e) / 4.0 - f
     scale = max(float(np.ptp(u)), float(np.ptp(w)), 1e-300)
     if not np.isfinite(r2) or r2 <= 0 or math.sqrt(r2) > 1e6 * scale:
-        raise InputError("fit_circle: the points are (nearly) collinear; no finite circle")
+        raise GeometryError("fit_circle: the points are (nearly) collinear; no finite circle")
     return float(mx - d / 2.0), float(my - e / 2.0), float(math.sqrt(r2))

@@ -14,13 +14,13 @@ of the body; the second steers the front wheels toward the line at the approach 
 ``psi_a(e) = atan(k e / (v_f + v_soft))`` (``k`` the gain, 1/s), so that
 ``e' = -v_f sin(psi_a) ~ -k e``, but no steeper than the wheel can take back: approaching
 at ``psi_a(e)`` the wheel turns at ``psi_a'(e) v_f sin(psi_a)``, held to half the steering
-rate (:func:`analysis.tracking_loop.approach_angle`).
+rate (:func:`clearance.analysis.tracking_loop.approach_angle`).
 
 A wheel turned at a finite rate (a car's road wheels go lock to lock in about 4 s) reaches a
 command only later, while the body goes on turning: asked for what the state needs now,
 the wheel comes too late, and after a corner tighter than the lock the plain law swings from
 lock to lock. So the command is the steering ``c`` that the law asks for at the moment the
-wheel reaches it (:func:`analysis.tracking_loop.predictive_stanley`): the body's turn and
+wheel reaches it (:func:`clearance.analysis.tracking_loop.predictive_stanley`): the body's turn and
 the front axle's drift while the wheel turns from ``phi`` to ``c`` at the rate, the path's
 heading there, and, where ``c`` lies beyond the path's steady steering there, the body's
 turn while the wheel comes back to it. These corrections are of second order in the
@@ -28,10 +28,11 @@ steering's change: on a smooth path, and in the steady state, the law is Stanley
 a corner tighter than the lock the vehicle rejoins the centre line without crossing it.
 
 The command passes the steering-rate limit and the lock
-(:func:`analysis.kinematics.limit_steering`); over the step the wheel turns linearly from
+(:func:`clearance.analysis.kinematics.limit_steering`); over the step the wheel turns linearly from
 its old angle to the new one, and the step is integrated to second order in the time step
-(:func:`analysis.kinematics.ramp_step`: exact while the steering is held); a trailer's
-articulation follows along the same arc by RK4 (:func:`analysis.trailer.advance_articulation`).
+(:func:`clearance.analysis.kinematics.ramp_step`: exact while the steering is held); a trailer's
+articulation follows along the same arc by RK4
+(:func:`clearance.analysis.trailer.advance_articulation`).
 
 Runs, speed and ending
 ----------------------
@@ -69,7 +70,7 @@ vehicle with a trailer is refused (the hitch would slide sideways with the steer
 Batches
 -------
 :func:`simulate_batch` prepares many (vehicle, path) runs as arrays (paths padded to one
-length), advances them all in one compiled loop (:func:`analysis.tracking_loop.run_loop`)
+length), advances them all in one compiled loop (:func:`clearance.analysis.tracking_loop.run_loop`)
 and returns one :class:`TrackingRun` per pair.
 """
 
@@ -82,12 +83,11 @@ from dataclasses import dataclass, field
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from analysis.kinematics import CRAWL_SPEED_M_S, SpeedProfile, as_speed_profile
-from analysis.polyline import DEFAULT_SPACING_M, Path, prepare_path
-from analysis.tracking_loop import run_loop
-from analysis.trailer import steady_articulation_rad, trailer_axle_point
-from vehicles.errors import InputError
-from vehicles.vehicle import Vehicle
+from clearance.analysis.kinematics import CRAWL_SPEED_M_S, SpeedProfile, as_speed_profile
+from clearance.analysis.polyline import DEFAULT_SPACING_M, Path, prepare_path
+from clearance.analysis.tracking_loop import run_loop
+from clearance.analysis.trailer import steady_articulation_rad, trailer_axle_point
+from clearance.vehicles.vehicle import Vehicle
 
 __all__ = ["MAX_COMMAND_RAD", "SOFT_SPEED_M_S", "TrackingRun", "TrackingSettings", "Trajectory",
            "check_vehicle", "simulate", "simulate_batch", "simulate_grid", "start_pose"]
@@ -111,7 +111,8 @@ class TrackingSettings:
         Time step (s): how often the controller acts (0.1 s: every 0.2 m at crawl speed).
         A held steering is integrated exactly, a turning one to second order in the step.
     speed
-        Front-axle speed: a constant (m/s) or a :class:`~analysis.kinematics.SpeedProfile`.
+        Front-axle speed: a constant (m/s) or a
+        :class:`~clearance.analysis.kinematics.SpeedProfile`.
     tolerance_m
         Largest lateral offset of the front-axle centre from the centre line that still
         counts as following it (beyond it: ``cannot-turn``).
@@ -150,16 +151,16 @@ class TrackingSettings:
         for name in ("dt_s", "tolerance_m", "gain_1_s", "spacing_m"):
             value = getattr(self, name)
             if not (isinstance(value, int | float) and math.isfinite(value) and value > 0):
-                raise InputError(f"tracking settings: {name} must be a positive number, "
+                raise ValueError(f"tracking settings: {name} must be a positive number, "
                                  f"got {value!r}")
         if not self.abort_factor >= 1:
-            raise InputError(f"tracking settings: abort_factor must be >= 1, "
+            raise ValueError(f"tracking settings: abort_factor must be >= 1, "
                              f"got {self.abort_factor!r}")
         if self.trailer_substeps < 1:
-            raise InputError(f"tracking settings: trailer_substeps must be >= 1, "
+            raise ValueError(f"tracking settings: trailer_substeps must be >= 1, "
                              f"got {self.trailer_substeps!r}")
         if self.max_steps is not None and self.max_steps < 1:
-            raise InputError(f"tracking settings: max_steps must be >= 1, got {self.max_steps!r}")
+            raise ValueError(f"tracking settings: max_steps must be >= 1, got {self.max_steps!r}")
 
 
 @dataclass(frozen=True)
@@ -168,7 +169,8 @@ class Trajectory:
 
     Sample ``k`` is the state at time ``t_s[k]``, ``phi_rad[k]`` the steering then; from
     ``t_s[k]`` to ``t_s[k + 1]`` the wheel turns linearly from ``phi_rad[k]`` to
-    ``phi_rad[k + 1]`` (:func:`analysis.kinematics.ramp_step`). Trailer arrays are ``None`` for a
+    ``phi_rad[k + 1]`` (:func:`clearance.analysis.kinematics.ramp_step`). Trailer arrays are
+    ``None`` for a
     vehicle without a trailer.
 
     Attributes
@@ -267,10 +269,10 @@ def check_vehicle(vehicle: Vehicle) -> None:
     """
     name = f"vehicle {vehicle.name!r}"
     if vehicle.steered_axle not in ("front", "rear"):
-        raise InputError(f"{name}: steered_axle must be 'front' or 'rear', "
+        raise ValueError(f"{name}: steered_axle must be 'front' or 'rear', "
                          f"got {vehicle.steered_axle!r}")
     if vehicle.steered_axle == "rear" and vehicle.trailer is not None:
-        raise InputError(f"{name}: a rear-steered vehicle towing a trailer is not supported "
+        raise ValueError(f"{name}: a rear-steered vehicle towing a trailer is not supported "
                          "(its hitch would slide sideways with the steered axle)")
     checks: list[tuple[str, float, Callable[[float], bool]]] = [
         ("wheelbase_m", vehicle.wheelbase_m, lambda v: v > 0),
@@ -294,7 +296,7 @@ def check_vehicle(vehicle: Vehicle) -> None:
         ]
     for field_name, value, ok in checks:
         if not isinstance(value, int | float) or math.isnan(value) or not ok(value):
-            raise InputError(f"{name}: {field_name} = {value!r} is out of range")
+            raise ValueError(f"{name}: {field_name} = {value!r} is out of range")
 
 
 def _as_path(path: Path | ArrayLike, spacing_m: float, index: int) -> Path:
@@ -315,8 +317,8 @@ def simulate_batch(
     vehicles
         The vehicles; a single vehicle is paired with every path.
     paths
-        Centre lines, as :class:`~analysis.polyline.Path` or ``(N, 2)``/``(N, 3)`` arrays in
-        metres; a single path is paired with every vehicle.
+        Centre lines, as :class:`~clearance.analysis.polyline.Path` or ``(N, 2)``/``(N, 3)`` arrays
+        in metres; a single path is paired with every vehicle.
     settings
         Time step, speed, tolerance and controller gain (defaults: 0.05 s, 2 m/s, 0.5 m).
 
@@ -348,7 +350,7 @@ def simulate_batch(
     if len(paths) == 1 and len(vehicles) > 1:
         paths = paths * len(vehicles)
     if len(vehicles) != len(paths):
-        raise InputError(
+        raise ValueError(
             f"simulate_batch: {len(vehicles)} vehicles and {len(paths)} paths cannot be paired"
         )
     for v in vehicles:
@@ -394,7 +396,7 @@ def simulate(
     >>> simulate(car, [(0, 0), (0, 0)])
     Traceback (most recent call last):
     ...
-    vehicles.errors.InputError: path 0: centre line needs at least two distinct points
+    clearance.vehicles.errors.GeometryError: path 0: centre line needs at least two distinct points
     """
     return simulate_batch([vehicle], [path], settings)[0]
 

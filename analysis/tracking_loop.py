@@ -1,16 +1,18 @@
-"""The compiled time loop of :func:`analysis.tracking.simulate_batch` (numba).
+"""The compiled time loop of :func:`clearance.analysis.tracking.simulate_batch` (numba).
 
 One pass over the time steps advances every run of a batch: project the steering point
-onto its path (:func:`analysis.kernels.project_near`), read the speed profile, steer by the
-Stanley law ahead of the wheel (:func:`predictive_stanley`; for a rear-steered vehicle, by
+onto its path (:func:`clearance.analysis.kernels.project_near`), read the speed profile, steer by
+the Stanley law ahead of the wheel (:func:`predictive_stanley`; for a rear-steered vehicle, by
 path curvature and heading error), limit the steering by its rate and lock, record the
 sample, then move the unit over the step while the wheel turns from its old angle to the
 new one (one arc, second order in the step) and advance the trailer's articulation along
-that arc. The step's formulas are those of :func:`analysis.kinematics.ramp_step`,
-:func:`analysis.kinematics.limit_steering` and :func:`analysis.trailer.advance_articulation`,
+that arc. The step's formulas are those of :func:`clearance.analysis.kinematics.ramp_step`,
+:func:`clearance.analysis.kinematics.limit_steering` and
+:func:`clearance.analysis.trailer.advance_articulation`,
 written here for one run at a time so that the loop runs compiled;
 ``tests/analysis/test_tracking_loop.py`` checks that they agree. What the loop means
-(settings, verdicts, the recorded quantities) is documented in :mod:`analysis.tracking`."""
+(settings, verdicts, the recorded quantities) is documented in
+:mod:`clearance.analysis.tracking`."""
 
 from __future__ import annotations
 
@@ -19,7 +21,7 @@ import math
 import numpy as np
 from numba import njit
 
-from analysis.kernels import project_near
+from clearance.analysis.kernels import project_near
 
 __all__ = ["APPROACH_SHARE", "RECORD", "approach_angle", "articulation_one", "limit_one",
            "predictive_stanley", "ramp_step_one", "run_loop", "stanley_residual"]
@@ -33,10 +35,10 @@ RECORD = ("t_s", "s_m", "x_m", "y_m", "theta_rad", "phi_rad", "error_m", "speed_
 def ramp_step_one(x: float, y: float, theta: float, phi0: float, phi1: float,
                   wheelbase: float, distance: float, front_steered: bool
                   ) -> tuple[float, float, float, float, float]:  # pragma: no cover
-    """:func:`analysis.kinematics.ramp_step` for one unit, with the arc it took.
+    """:func:`clearance.analysis.kinematics.ramp_step` for one unit, with the arc it took.
 
     Returns the new ``x, y, theta`` and the reference axle's travel ``ds`` and turn
-    ``dtheta`` (:func:`analysis.kinematics.ramp_arc`).
+    ``dtheta`` (:func:`clearance.analysis.kinematics.ramp_arc`).
 
     Examples
     --------
@@ -61,7 +63,7 @@ def ramp_step_one(x: float, y: float, theta: float, phi0: float, phi1: float,
 @njit(cache=True)
 def limit_one(prev: float, command: float, lock: float, max_change: float
               ) -> float:  # pragma: no cover - compiled
-    """:func:`analysis.kinematics.limit_steering` for one unit (``max_change = rate dt``).
+    """:func:`clearance.analysis.kinematics.limit_steering` for one unit (``max_change = rate dt``).
 
     Examples
     --------
@@ -80,7 +82,7 @@ def _dpsi_ds(psi: float, k: float, e: float, lt: float) -> float:  # pragma: no 
 @njit(cache=True)
 def articulation_one(psi: float, k: float, ds: float, e: float, lt: float,
                      substeps: int) -> float:  # pragma: no cover - compiled
-    """:func:`analysis.trailer.advance_articulation` for one unit (RK4, ``substeps``).
+    """:func:`clearance.analysis.trailer.advance_articulation` for one unit (RK4, ``substeps``).
 
     Examples
     --------
@@ -275,6 +277,12 @@ def run_loop(
     place. Returns the ``(9, max_steps + 1, n)`` record (rows :data:`RECORD`; a run's
     samples are its first ``count`` columns) and per run: ``count``, ``reached``,
     ``aborted``, the jackknife time (NaN: none), steps at lock, steps rate-limited.
+
+    A numba kernel that must be one piece: the steps of a run (look-ahead point, control
+    law, steering limits, arc step, articulation) share a dozen scalars per run that the
+    compiler keeps in registers; the steps that stand alone are already the njit helpers
+    above (:func:`ramp_step_one`, :func:`limit_one`, :func:`articulation_one`,
+    :func:`predictive_stanley`).
     """
     n = x.shape[0]
     rec = np.full((9, max_steps + 1, n), np.nan)

@@ -48,8 +48,6 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from vehicles.errors import InputError
-
 __all__ = ["advance_articulation", "hitch_point", "steady_articulation_rad",
            "steady_trailer_radius_m", "trailer_axle_point", "trailer_heading_rate"]
 
@@ -136,7 +134,7 @@ def advance_articulation(
     (0.367879, 0.367879)
     """
     if substeps < 1:
-        raise InputError(f"advance_articulation: substeps must be >= 1, got {substeps!r}")
+        raise ValueError(f"advance_articulation: substeps must be >= 1, got {substeps!r}")
     psi = np.asarray(psi_rad, dtype=np.float64)
     k = np.asarray(curvature_1_m, dtype=np.float64)
     e = np.asarray(hitch_offset_m, dtype=np.float64)

@@ -2,7 +2,7 @@
 
 The docs/design.md §4 definitions, at full lock (:func:`full_lock_metrics`) and over the
 steering range (:func:`steering_sweep`). Inputs are the SI columns of a loaded
-:class:`vehicles.table.VehicleTable` frame; outputs are SI too (metres, radians).
+:class:`clearance.vehicles.table.VehicleTable` frame; outputs are SI too (metres, radians).
 
 For a rear-steered vehicle the roles of the axles swap: ``rho`` is the front (unsteered)
 axle's radius and the overhang beyond the steered axle is the rear one.
@@ -14,8 +14,8 @@ import numpy as np
 import pandas as pd
 from numpy.typing import ArrayLike, NDArray
 
-from analysis.control_law import safe_pathway, theta_of_rho
-from vehicles.table import VehicleTable, steering_from_row
+from clearance.analysis.control_law import safe_pathway, theta_of_rho
+from clearance.vehicles.table import VehicleTable, steering_from_row
 
 __all__ = ["INPUT_COLUMNS", "ackermann_angle_at_lock", "articulation_limited_rho",
            "centre_line_radius", "curb_to_curb", "full_lock_metrics", "inside_radius",
@@ -144,7 +144,7 @@ def full_lock_metrics(frame: pd.DataFrame) -> pd.DataFrame:
     maximum articulation, so the steady columns are those of the tightest radius the
     articulation allows. ``steady_state`` is false, and the steady trailer columns NaN,
     where even that has none: no trailer-axle circle, or a trailer body that would pass
-    over the turn's centre (:mod:`analysis.design_turn` gives such a combination's inside
+    over the turn's centre (:mod:`clearance.analysis.design_turn` gives such a combination's inside
     radius in a real, transient turn). Vectorised: a million rows take well under a second.
 
     Examples
@@ -233,7 +233,7 @@ def turning_metrics(table: VehicleTable) -> pd.DataFrame:
 
     Examples
     --------
-    >>> from vehicles.table import bundled_table, load_tables
+    >>> from clearance.vehicles.table import bundled_table, load_tables
     >>> m = turning_metrics(load_tables([bundled_table("paper_table1")], ["2009 Smart Car"]))
     >>> m.loc[0, "vehicle"], round(float(m.loc[0, "curb_to_curb_m"] / 0.3048), 1)
     ('2009 Smart Car', 27.7)
@@ -256,7 +256,7 @@ def steering_sweep(table: VehicleTable, name: str, n: int = 50) -> pd.DataFrame:
 
     Examples
     --------
-    >>> from vehicles.table import bundled_table, load_tables
+    >>> from clearance.vehicles.table import bundled_table, load_tables
     >>> t = load_tables([bundled_table("paper_table1")], ["2010 Honda Pilot"])
     >>> s = steering_sweep(t, "2010 Honda Pilot", 5)
     >>> float(s.rho_m.iloc[0]), round(float(np.degrees(s.inner_rad.iloc[-1])), 6)

@@ -13,8 +13,8 @@ rear contact, ``y`` up, perpendicular to it) its body's lower outline (:class:`B
 - ahead of the front axle (``l < x <= l + a_f``): ``max(c, (x - l) tan(alpha))``,
 
 with the ground clearance ``c``, the departure, breakover and approach angles ``delta``,
-``beta``, ``alpha`` (:class:`vehicles.underside.Underside`). A body of clearance ``c`` whose
-angles are derived from it is the flat plate ``y = c`` from its rear to its front end.
+``beta``, ``alpha`` (:class:`clearance.vehicles.underside.Underside`). A body of clearance ``c``
+whose angles are derived from it is the flat plate ``y = c`` from its rear to its front end.
 
 The vehicle is placed with its rear contact at every ``step_m`` (and wherever a contact
 stands on a point of the profile, where the overhangs' worst cases are) while any part of
@@ -40,7 +40,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from vehicles.vehicle import Vehicle
+from clearance.vehicles.vehicle import Vehicle
 
 __all__ = ["DEFAULT_STEP_M", "PARTS", "SUSPECT_GRADE_PCT", "SUSPECT_RISE_M", "Body",
            "VerticalResult", "body_clearance", "front_contact", "suspect_points",

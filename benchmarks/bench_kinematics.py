@@ -18,10 +18,10 @@ import time
 import numpy as np
 import shapely
 
-from analysis.clearance import Areas, evaluate
-from analysis.polyline import prepare_path
-from analysis.tracking import TrackingSettings, simulate_batch
-from vehicles.vehicle import Trailer, Vehicle
+from clearance.analysis.clearance import Areas, evaluate
+from clearance.analysis.polyline import prepare_path
+from clearance.analysis.tracking import TrackingSettings, simulate_batch
+from clearance.vehicles.vehicle import Trailer, Vehicle
 
 
 def fleet(n: int) -> list[Vehicle]:

@@ -3,19 +3,20 @@
 A 10,000-junction grid (``netgenerate --grid --grid.number 100``, two lanes, about 130 MB)
 is generated once into a cache directory outside the repository, then:
 
-1. our reader (:func:`networks.reader.read_network`) is timed ``--repeat`` times, each in a
+1. our reader (:func:`clearance.networks.reader.read_network`) is timed ``--repeat`` times, each in
+a
    fresh process (so that peak memory is per run); the median is compared with the target;
 2. ``sumolib.net.readNet(..., withInternal=True)`` is timed once in its own process, for the
    ratio; the extraction is also given against it at the end (on these shared machines
    sumolib's read of the grid took 19-33 s in different spells: the ratios tell how our
    steps did whatever the machine's speed);
 3. in a fresh process (``--extract-repeat`` times, median): the network is read, every
-   curve extracted (:func:`networks.curves.extract_curves`, which gives the curves their
-   areas to be built on demand, :mod:`networks.area_book`), then the three areas
+   curve extracted (:func:`clearance.networks.curves.extract_curves`, which gives the curves their
+   areas to be built on demand, :mod:`clearance.networks.area_book`), then the three areas
    (``own_lanes``, ``roadway``, ``paved``) of EVERY curve are read and checked to be
    non-empty polygons, in curve order: each batch of curves has its areas built when its
    first curve is read, and the oldest batch is released when more than
-   :data:`~networks.area_book.MAX_BATCHES` would be kept. The extraction figure is curves
+   :data:`~clearance.networks.area_book.MAX_BATCHES` would be kept. The extraction figure is curves
    plus building every area. Held at once: the network, every curve (centre line,
    profile, lanes) and the areas of at most that many batches, never all areas. Peak
    memory is that process's ``ru_maxrss`` (read, curves and areas together). Reading and
@@ -59,19 +60,19 @@ def rss_mb():
 t0, c0 = time.perf_counter(), time.process_time()
 out = {}
 if what == "ours":
-    from networks.reader import read_network
+    from clearance.networks.reader import read_network
     net = read_network(path)
     out["read_s"], out["read_cpu_s"] = time.perf_counter() - t0, time.process_time() - c0
-    out["lanes"] = len(net.lanes)
-    out["junctions"] = sum(1 for j in net.junctions.values() if j.type != "internal")
+    out["lanes"] = len(net.lanes) out["junctions"] = sum(1 for j in net.junctions.values() if
+    j.type != "internal")
 elif what == "sumolib":
     import sumolib
     net = sumolib.net.readNet(path, withInternal=True)
     out["read_s"], out["read_cpu_s"] = time.perf_counter() - t0, time.process_time() - c0
 elif what == "extract":
-    from networks.area_book import BATCH_CURVES, MAX_BATCHES
-    from networks.curves import extract_curves
-    from networks.reader import read_network
+    from clearance.networks.area_book import BATCH_CURVES, MAX_BATCHES
+    from clearance.networks.curves import extract_curves
+    from clearance.networks.reader import read_network
     net = read_network(path)
     out["read_s"] = time.perf_counter() - t0
     out["read_peak_mb"] = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
@@ -82,8 +83,7 @@ elif what == "extract":
     out["curves_rss_mb"] = rss_mb()
     # build and check the three areas of EVERY curve, in curve order: each batch is built
     # when its first curve is read; the book keeps at most MAX_BATCHES batches at once
-    bad = 0
-    for c in curves:
+    bad = 0 for c in curves:
         for area in (c.own_lanes, c.roadway, c.paved):
             if area is None or area.is_empty or area.geom_type not in POLYGONAL:
                 bad += 1
@@ -95,8 +95,7 @@ elif what == "extract":
     out["batches_built"] = book.built if book else 0
     out["batch_curves"], out["max_batches"] = BATCH_CURVES, MAX_BATCHES
     out.update(curves_s=t2 - t1, areas_s=t3 - t2, curves_cpu_s=c2 - c1, areas_cpu_s=c3 - c2)
-    out["curves"] = len(curves)
-    kinds = {}
+    out["curves"] = len(curves) kinds = {}
     for c in curves:
         kinds[c.kind] = kinds.get(c.kind, 0) + 1
     out["kinds"] = kinds
@@ -112,7 +111,7 @@ def cache_dir() -> Path:
 
 def grid_network(n: int, directory: Path) -> Path:
     """Generate (once) an n × n grid with two lanes per direction."""
-    from networks.sumo.tools import run_sumo_tool
+    from clearance.networks.sumo.tools import run_sumo_tool
 
     directory.mkdir(parents=True, exist_ok=True)
     path = directory / f"grid{n}x{n}_2lanes.net.xml"

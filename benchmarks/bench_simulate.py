@@ -24,11 +24,11 @@ import argparse
 import statistics
 import time
 
-from networks.curves import extract_curves
-from networks.reader import read_network
-from networks.samples import build as samples
-from networks.sumo.driver import DriveOptions, DriveStats, curve_areas, drive
-from vehicles.table import bundled_table, load_tables
+from clearance.networks.curves import extract_curves
+from clearance.networks.driving.drive import DriveOptions, DriveStats, curve_areas, drive
+from clearance.networks.reader import read_network
+from clearance.networks.samples import build as samples
+from clearance.vehicles.table import bundled_table, load_tables
 
 DEFAULT_VEHICLES = ("P", "SU-30", "CITY-BUS", "WB-40", "WB-62")
 
@@ -49,7 +49,7 @@ def main() -> None:
     vehicles = [table.vehicle(n) for n in names]
     net = read_network(samples.SAMPLES_DIR / args.sample / f"{args.sample}.net.xml")
     curves = extract_curves(net)
-    # The areas are built on first use, on a thread pool (networks.area_book): build them
+    # The areas are built on first use, on a thread pool (clearance.networks.area_book): build them
     # now, so that the timed runs measure one core and no area building
     for c in curves:
         curve_areas(c)

@@ -2,7 +2,7 @@
 
 Target (issue 2): under one second. Prints the median of several repeats, for the lock
 resolution (inner-wheel lock to bicycle angle and outer wheel, vectorised) plus
-:func:`analysis.turning.full_lock_metrics`.
+:func:`clearance.analysis.turning.full_lock_metrics`.
 
 Run: ``python benchmarks/bench_turning.py [ROWS]``
 """
@@ -19,8 +19,8 @@ os.environ.setdefault("OMP_NUM_THREADS", "1")
 import numpy as np  # noqa: E402
 import pandas as pd  # noqa: E402
 
-from analysis.turning import full_lock_metrics  # noqa: E402
-from vehicles.steering import bicycle_from_inner, ideal_outer_from_inner  # noqa: E402
+from clearance.analysis.turning import full_lock_metrics  # noqa: E402
+from clearance.vehicles.steering import bicycle_from_inner, ideal_outer_from_inner  # noqa: E402
 
 
 def make_frame(n: int, seed: int = 1) -> pd.DataFrame:

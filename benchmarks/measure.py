@@ -148,4 +148,4 @@ def verdict_counts(csv_path: Path) -> tuple[Counter[tuple[str, str, str]], int]:
 
 def clearance_cmd(*args: str) -> list[str]:
     """The ``clearance`` command of this interpreter's environment."""
-    return [sys.executable, "-m", "reports.cli", *args]
+    return [sys.executable, "-m", "clearance.reports.cli.main", *args]

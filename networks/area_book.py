@@ -3,11 +3,11 @@
 The three areas of every curve of a large network do not fit in memory beside the network
 and its curves (the 10,000-junction grid's 196,408 curves hold about 1.5 GB of polygons),
 and most uses need few of them at a time (``clearance curves`` needs none; a simulation
-needs those of its batch of runs). :func:`networks.curves.extract_curves` therefore gives
+needs those of its batch of runs). :func:`clearance.networks.curves.extract_curves` therefore gives
 its curves an :class:`AreaBook`: the first time a curve's ``own_lanes``, ``roadway`` or
 ``paved`` is read, the areas of its whole batch (:data:`BATCH_CURVES` consecutive curves,
 never splitting a junction's curves) are built together with
-:func:`networks.areas.build_areas`, and the curves keep them until the book releases the
+:func:`clearance.networks.areas.build_areas`, and the curves keep them until the book releases the
 batch. The book keeps at most :data:`MAX_BATCHES` batches: building one more releases the
 one built first. A released curve builds its batch again when asked (the same geometry:
 a batch's unions do not depend on what else is built). An area a caller still holds stays
@@ -16,13 +16,14 @@ valid; the book only drops its own references.
 Curves are in kind then id order, so a junction's turns are consecutive and a sweep over
 the curves in that order builds each batch once.
 
-**Levels** (docs/design.md §6, :mod:`analysis.levels`, :mod:`networks.stacking`). A curve
+**Levels** (docs/design.md §6, :mod:`clearance.analysis.levels`,
+:mod:`clearance.networks.stacking`). A curve
 some of whose parts lie over or under another part of the network (a helix, a garage, a
 flyover) gets level segments (:func:`curve_levels`, through :meth:`AreaBook.levels`): for
 each slot of its centre line's heights, the same members as its ``own_lanes``, ``roadway``
 and ``paved`` areas, cut to the parts that storey meets (within
-:data:`~analysis.levels.LEVEL_BAND_M` of the slot's height, or not stacked and reached from
-those along the road). Every other curve, however steep, has none and is judged in plan; a
+:data:`~clearance.analysis.levels.LEVEL_BAND_M` of the slot's height, or not stacked and reached
+from those along the road). Every other curve, however steep, has none and is judged in plan; a
 flat network's curves have none at no cost.
 """
 
@@ -35,11 +36,11 @@ import numpy as np
 import shapely
 from shapely.geometry.base import BaseGeometry
 
-from analysis.clearance import Areas
-from analysis.levels import LEVEL_BAND_M, LEVEL_STEP_M, Level, band_pieces, level_slots
-from networks.area_groups import AreaCurve, AreaIndex, BatchPlan
-from networks.model import Network
-from networks.stacking import Stacking, densified, densify, met_pieces
+from clearance.analysis.clearance import Areas
+from clearance.analysis.levels import LEVEL_BAND_M, LEVEL_STEP_M, Level, band_pieces, level_slots
+from clearance.networks.area_groups import AreaCurve, AreaIndex, BatchPlan
+from clearance.networks.model import Network
+from clearance.networks.stacking import Stacking, densified, densify, met_pieces
 
 __all__ = ["AreaBook", "BATCH_CURVES", "MAX_BATCHES", "curve_levels", "network_is_flat"]
 
@@ -65,7 +66,7 @@ class AreaBook:
     max_batches
         Batches kept at once (at least 1; default :data:`MAX_BATCHES`).
     index
-        The network's :class:`~networks.area_groups.AreaIndex`, when already made.
+        The network's :class:`~clearance.networks.area_groups.AreaIndex`, when already made.
 
     Attributes
     ----------
@@ -76,8 +77,8 @@ class AreaBook:
 
     Examples
     --------
-    >>> from networks.curves import extract_curves
-    >>> from networks.reader import read_network
+    >>> from clearance.networks.curves import extract_curves
+    >>> from clearance.networks.reader import read_network
     >>> net = read_network("networks/samples/intersection/intersection.net.xml")
     >>> curves = extract_curves(net)          # no area is built yet
     >>> book = curves[0].area_book
@@ -125,7 +126,7 @@ class AreaBook:
     def load(self, batch: int) -> None:
         """Build the areas of a batch and give them to its curves (releasing the oldest
         batch when more than ``max_batches`` would be kept)."""
-        from networks.areas import build_areas
+        from clearance.networks.areas import build_areas
 
         curves = self.batches[batch]
         own, roadway, paved = build_areas(self.index, curves)
@@ -192,11 +193,11 @@ def _ends(
 
 def network_is_flat(net: Network) -> bool:
     """True when every lane's and junction's height lies within
-    :data:`~analysis.levels.LEVEL_STEP_M` of every other's (judged in plan).
+    :data:`~clearance.analysis.levels.LEVEL_STEP_M` of every other's (judged in plan).
 
     Examples
     --------
-    >>> from networks.reader import read_network
+    >>> from clearance.networks.reader import read_network
     >>> network_is_flat(read_network("networks/samples/intersection/intersection.net.xml"))
     True
     >>> network_is_flat(read_network("networks/samples/helix/helix.net.xml"))
@@ -214,19 +215,19 @@ def network_is_flat(net: Network) -> bool:
 def curve_levels(index: AreaIndex, curve: AreaCurve, force: bool = False) -> tuple[Level, ...]:
     """A curve's level segments, each with its storey's own lanes, roadway and paved area.
 
-    The members of the curve's areas (:class:`~networks.area_groups.BatchPlan`) and its own
-    line are cut to the parts each slot (:func:`analysis.levels.level_slots` of the centre
-    line) meets (:func:`networks.stacking.met_pieces`: within
-    :data:`~analysis.levels.LEVEL_BAND_M` of its middle height, or not stacked and reached
+    The members of the curve's areas (:class:`~clearance.networks.area_groups.BatchPlan`) and its
+    own line are cut to the parts each slot (:func:`clearance.analysis.levels.level_slots` of the
+    centre line) meets (:func:`clearance.networks.stacking.met_pieces`: within
+    :data:`~clearance.analysis.levels.LEVEL_BAND_M` of its middle height, or not stacked and reached
     from those along the road); the paved area covers the roadway and the own lanes and is
     closed over its cracks, as in plan. None (an empty tuple) when no part of the curve is
-    stacked (:mod:`networks.stacking`): the plan areas are then the storey's, however steep
-    the curve (``force`` builds the levels all the same, for checks).
+    stacked (:mod:`clearance.networks.stacking`): the plan areas are then the storey's, however
+    steep the curve (``force`` builds the levels all the same, for checks).
 
     Examples
     --------
-    >>> from networks.curves import extract_curves
-    >>> from networks.reader import read_network
+    >>> from clearance.networks.curves import extract_curves
+    >>> from clearance.networks.reader import read_network
     >>> net = read_network("networks/samples/helix/helix.net.xml")
     >>> ramp = [c for c in extract_curves(net) if c.kind == "ramp"][0]
     >>> levels = curve_levels(AreaIndex(net), ramp)
@@ -235,7 +236,7 @@ def curve_levels(index: AreaIndex, curve: AreaCurve, force: bool = False) -> tup
     >>> bool(levels[5].areas.own_lanes.area < 0.5 * ramp.own_lanes.area)
     True
     """
-    from networks.areas import SEAL_M, _fill_small_holes, close_cracks, designed_line
+    from clearance.networks.areas import SEAL_M, _fill_small_holes, close_cracks, designed_line
 
     net = index.net
     plan = BatchPlan(index)
@@ -282,7 +283,7 @@ def curve_levels(index: AreaIndex, curve: AreaCurve, force: bool = False) -> tup
         paved_k = shapely.union_all([
             _union(net, {k: lines[k] for k in paved_lanes}, met, st, lo, hi, SEAL_M),
             *junction_k, own])
-        # closed over the cracks as the plan's paved area is (networks.areas.close_cracks)
+        # closed over the cracks as the plan's paved area is (clearance.networks.areas.close_cracks)
         paved_k = close_cracks(np.array([shapely.make_valid(paved_k)], dtype=object))[0]
         paved_k = _fill_small_holes(paved_k)
         areas = Areas(own, paved_k, None if road_k.is_empty else _fill_small_holes(road_k))
@@ -311,9 +312,9 @@ def _with_heights(line: np.ndarray, centerline: np.ndarray, s_m: np.ndarray) -> 
 def _met_lines(pts: np.ndarray, met: np.ndarray, stacked: np.ndarray | None, lo: float,
                hi: float) -> list[np.ndarray]:
     """The plane polylines of a 3-D polyline that a storey meets
-    (:func:`networks.stacking.met_pieces`): of its stacked pieces the parts within the band
-    ``lo .. hi`` (cut where they cross it, :func:`analysis.levels.band_pieces`), and its
-    runs of other pieces met, whole.
+    (:func:`clearance.networks.stacking.met_pieces`): of its stacked pieces the parts within the
+    band ``lo .. hi`` (cut where they cross it, :func:`clearance.analysis.levels.band_pieces`), and
+    its runs of other pieces met, whole.
 
     >>> ramp = np.array([[0, 0, 0.0], [2, 0, 2], [4, 0, 4]])
     >>> [p.tolist() for p in _met_lines(ramp, np.array([True, True]), None, -1.0, 1.0)]

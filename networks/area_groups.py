@@ -1,9 +1,10 @@
 """Which lanes and junction polygons make up each curve's ``roadway`` and ``paved`` area.
 
-The areas (docs/design.md §6, :mod:`networks.areas`) are unions of *members*, named by keys:
+The areas (docs/design.md §6, :mod:`clearance.networks.areas`) are unions of *members*, named by
+keys:
 
 ``L:<lane>``
-    One lane's polygon (round ends, grown by :data:`~networks.areas.SEAL_M`).
+    One lane's polygon (round ends, grown by :data:`~clearance.networks.areas.SEAL_M`).
 ``J:<junction>``
     A junction polygon (grown likewise).
 ``ER:<edge>`` / ``EA:<edge>``
@@ -28,15 +29,15 @@ from typing import Any, Protocol
 
 import numpy as np
 
-from networks.model import ROAD_VCLASSES, Network
-from networks.paths import junction_of_internal, via_lanes
-from networks.stacking import Stacking, stacking
+from clearance.networks.model import ROAD_VCLASSES, Network
+from clearance.networks.paths import junction_of_internal, via_lanes
+from clearance.networks.stacking import Stacking, stacking
 
 __all__ = ["AreaCurve", "AreaIndex", "BatchPlan", "is_road", "junctions_of", "plain_edges_of"]
 
 
 class AreaCurve(Protocol):
-    """What building a curve's areas needs of it (:class:`networks.curves.Curve` has it):
+    """What building a curve's areas needs of it (:class:`clearance.networks.curves.Curve` has it):
     a protocol, so that the area modules need not import the curves module that uses them."""
 
     curve_id: str
@@ -50,7 +51,8 @@ class AreaCurve(Protocol):
     area_batch: int
 
     def set_areas(self, own_lanes: Any, roadway: Any, paved: Any, book: Any = None) -> None:
-        """Give the curve its three areas (see :meth:`networks.curves.Curve.set_areas`)."""
+        """Give the curve its three areas (see
+        :meth:`clearance.networks.curves.Curve.set_areas`)."""
 
 
 class AreaIndex:
@@ -78,7 +80,7 @@ class AreaIndex:
     road_lanes
         Lanes that passenger cars, buses or trucks may use (:func:`is_road`).
     stacking
-        The parts of the network over or under another part (:mod:`networks.stacking`).
+        The parts of the network over or under another part (:mod:`clearance.networks.stacking`).
     """
 
     def __init__(self, net: Network):
@@ -118,7 +120,8 @@ class AreaIndex:
 
     @property
     def stacking(self) -> Stacking:
-        """The network's stacked parts (:func:`networks.stacking.stacking`, made when first
+        """The network's stacked parts (:func:`clearance.networks.stacking.stacking`, made when
+        first
         asked: only curves with heights ask)."""
         if self._stacking is None:
             self._stacking = stacking(self.net)
@@ -130,8 +133,8 @@ class AreaIndex:
 
         Examples
         --------
-        >>> from networks.samples.sources import SAMPLES_DIR
-        >>> from networks.reader import read_network
+        >>> from clearance.networks.samples.sources import SAMPLES_DIR
+        >>> from clearance.networks.reader import read_network
         >>> net = read_network(SAMPLES_DIR / "intersection" / "intersection.net.xml")
         >>> index = AreaIndex(net)
         >>> a, b = [k for k in net.lanes if not k.startswith(":")][:2]
@@ -220,7 +223,7 @@ class BatchPlan:
     """The groups (and what they are made of) of one batch of curves.
 
     Call :meth:`add` for each curve; then :attr:`pieces`, :attr:`road_groups` and
-    :attr:`paved_groups` say what to build (:func:`networks.areas.build_areas`).
+    :attr:`paved_groups` say what to build (:func:`clearance.networks.areas.build_areas`).
 
     Attributes
     ----------

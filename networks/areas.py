@@ -9,11 +9,10 @@
 Lane polygons in ``roadway`` and ``paved`` have round ends, so that lanes meeting at an
 angle leave no wedge uncovered on the outside of the joint; lanes and junction polygons
 are grown by :data:`SEAL_M` (1 mm) so that they overlap rather than touch (a union of
-touching polygons can keep hairline cracks);
-holes under :data:`MIN_HOLE_M2` (wedges between lane pieces) are filled. The paved area
-is closed over :data:`CRACK_M` (:func:`close_cracks`): the slivers SUMO leaves between the
-lanes of a street's two directions, or between a lane and a junction polygon, where their
-shapes are offset from different centre lines, are pavement.
+touching polygons can keep hairline cracks); holes under :data:`MIN_HOLE_M2` (wedges between lane
+pieces) are filled. The paved area is closed over :data:`CRACK_M` (:func:`close_cracks`): the
+slivers SUMO leaves between the lanes of a street's two directions, or between a lane and a
+junction polygon, where their shapes are offset from different centre lines, are pavement.
 ``roadway``
     Everything a vehicle going the same way could use: the curve's lanes, all road lanes
     (admitting passenger cars, buses or trucks) of the plain edges it runs on, and the
@@ -28,18 +27,18 @@ shapes are offset from different centre lines, are pavement.
     every lane the run drives on, lead-in and run-out included.
 
 Areas are built for a batch of curves at a time (:func:`build_areas`; all curves at once
-with :func:`attach_areas`, on demand per batch with :class:`networks.area_book.AreaBook`):
+with :func:`attach_areas`, on demand per batch with :class:`clearance.networks.area_book.AreaBook`):
 the lane polygons the batch needs with vectorised ``shapely.buffer``, then the pieces, then
 the areas; curves of the batch that share an area (one junction's paved area serves all
 its turns) share the object. Which lanes and pieces make each area is decided in
-:mod:`networks.area_groups`, in a fixed order, so that an area is the same whichever batch
+:mod:`clearance.networks.area_groups`, in a fixed order, so that an area is the same whichever batch
 builds it. Unions of a few polygons are pairwise, larger ones ``shapely.union_all`` over
 rows of an array. A paved area is the union of its plain lanes, edges and junction polygon
 first, then of that with the union of only the internal lanes it does not already cover
 (the same area, far fewer crossings to node).
 
-Building has two steps: grouping the curves (:class:`~networks.area_groups.BatchPlan`, then
-:func:`make_job`: Python, which needs the network) and making the geometry from the
+Building has two steps: grouping the curves (:class:`~clearance.networks.area_groups.BatchPlan`,
+then :func:`make_job`: Python, which needs the network) and making the geometry from the
 resulting :class:`Job` of plain arrays (:func:`run_job`: GEOS only). Areas are built in the
 process that reads them, on one core: a study spends its time in the runs, which go to
 worker processes (docs/design.md §8). ``own_lanes`` is a buffer of the centre line, so at
@@ -55,11 +54,11 @@ from typing import Literal, NamedTuple, cast
 import numpy as np
 import shapely
 
-from analysis.polyline import DEFAULT_SPACING_M, prepare_path
-from networks.area_groups import AreaCurve, AreaIndex, BatchPlan
-from networks.collector import gc_paused
-from networks.model import Network
-from vehicles.errors import InputError
+from clearance.analysis.polyline import DEFAULT_SPACING_M, prepare_path
+from clearance.networks.area_groups import AreaCurve, AreaIndex, BatchPlan
+from clearance.networks.collector import gc_paused
+from clearance.networks.model import Network
+from clearance.vehicles.errors import GeometryError
 
 __all__ = ["CRACK_M", "CapStyle", "DESIGNED_TOLERANCE_M", "Job", "MIN_HOLE_M2", "PAIRWISE_MAX",
            "SEAL_M", "attach_areas", "build_areas", "close_cracks", "covering_paved",
@@ -97,7 +96,7 @@ def lane_polygons(
 
     Examples
     --------
-    >>> from networks.reader import Lane, Network, Location
+    >>> from clearance.networks.reader import Lane, Network, Location
     >>> lane = Lane("e_0", "e", 0, 3.0, "normal", frozenset(), np.array([[0, 0, 0], [10, 0, 0.0]]),
     ...             10.0, 13.9)
     >>> net = Network(None, {"e_0": lane}, {}, [], {}, [], Location())
@@ -155,7 +154,7 @@ def designed_line(centerline: np.ndarray, name: str = "centre line") -> np.ndarr
 
     The own lanes are this line buffered by half the lane width, so that they are built
     from the same smoothed line the vehicle's steering point follows
-    (:func:`analysis.polyline.prepare_path` with ``smooth=True``): SUMO's chords and the
+    (:func:`clearance.analysis.polyline.prepare_path` with ``smooth=True``): SUMO's chords and the
     kinks where its lanes meet are drawing artefacts, not the design. Simplified to
     within :data:`DESIGNED_TOLERANCE_M`. A line that cannot be smoothed (it turns back on
     itself) is returned as it is, ``(N, 2)``.
@@ -176,7 +175,7 @@ def designed_line(centerline: np.ndarray, name: str = "centre line") -> np.ndarr
     pts = np.asarray(centerline, dtype=float)[:, :2]
     try:
         xy = prepare_path(pts, DEFAULT_SPACING_M, name=name, smooth=True).xy
-    except InputError:
+    except GeometryError:
         return pts
     simple = shapely.simplify(shapely.LineString(xy), DESIGNED_TOLERANCE_M)
     return shapely.get_coordinates(simple)
@@ -302,7 +301,7 @@ def junction_polygons(net: Network, junction_ids: Sequence[str]) -> np.ndarray:
 
     Examples
     --------
-    >>> from networks.reader import Junction, Location
+    >>> from clearance.networks.reader import Junction, Location
     >>> sq = np.array([[0, 0, 0], [4, 0, 0], [4, 4, 0], [0, 4, 0.0]])
     >>> j = Junction("J", "priority", 2.0, 2.0, 0.0, sq, (), ())
     >>> net = Network(None, {}, {}, [], {"J": j}, [], Location())
@@ -402,8 +401,8 @@ def _fill_small_holes_each(geoms: np.ndarray) -> np.ndarray:
 
 def attach_areas(net: Network, curves: Sequence[AreaCurve]) -> None:
     """Build ``own_lanes``, ``roadway`` and ``paved`` of every curve now and keep them on
-    the curves (in place; :func:`networks.curves.extract_curves` builds them on demand
-    instead, see :class:`networks.area_book.AreaBook`).
+    the curves (in place; :func:`clearance.networks.curves.extract_curves` builds them on demand
+    instead, see :class:`clearance.networks.area_book.AreaBook`).
 
     Unions are built in two levels: pieces first (an edge's road lanes, an edge's lanes,
     the internal road lanes of one movement ``a -> b``), then each roadway from its
@@ -502,9 +501,9 @@ def run_job(job: Job) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
 
     Examples
     --------
-    >>> from networks.area_groups import AreaCurve, AreaIndex
-    >>> from networks.curves import extract_curves
-    >>> from networks.reader import read_network
+    >>> from clearance.networks.area_groups import AreaCurve, AreaIndex
+    >>> from clearance.networks.curves import extract_curves
+    >>> from clearance.networks.reader import read_network
     >>> net = read_network("networks/samples/intersection/intersection.net.xml")
     >>> curves = extract_curves(net, areas=False)
     >>> plan = BatchPlan(AreaIndex(net))

@@ -13,7 +13,7 @@ Kinds and how they are found:
 ``uturn``
     The same for netconvert's automatic turnarounds (connection ``dir="t"``, at dead
     ends and on divided roads) and for every other connection that turns back alongside
-    its approach (:func:`networks.geometry.turns_back`: onto the other carriageway, round
+    its approach (:func:`clearance.networks.geometry.turns_back`: onto the other carriageway, round
     a turning loop): a kind of their own, left out unless asked for (:data:`DEFAULT_KINDS`).
     A network built without internal lanes (``--no-internal-links``) has no junction
     geometry to check: no turns are extracted and a warning says so.
@@ -42,10 +42,10 @@ from typing import TYPE_CHECKING
 import numpy as np
 from shapely.geometry.base import BaseGeometry
 
-from analysis.levels import Level
-from networks.collector import gc_paused
-from networks.elevation import suspect_notes
-from networks.geometry import (
+from clearance.analysis.levels import Level
+from clearance.networks.collector import gc_paused
+from clearance.networks.elevation import suspect_notes
+from clearance.networks.geometry import (
     arc_length,
     clean_polyline,
     curvature_profile,
@@ -54,8 +54,8 @@ from networks.geometry import (
     turns_back,
     unwrap,
 )
-from networks.model import ROAD_VCLASSES, Network
-from networks.paths import (
+from clearance.networks.model import ROAD_VCLASSES, Network
+from clearance.networks.paths import (
     PathPlan,
     junction_of_internal,
     plan_path,
@@ -63,11 +63,11 @@ from networks.paths import (
     steady_lead_ins,
     via_lanes,
 )
-from networks.profiles import Stations, profiles
-from vehicles.errors import InputError
+from clearance.networks.profiles import Stations, profiles
+from clearance.vehicles.errors import OptionError
 
 if TYPE_CHECKING:
-    from networks.area_book import AreaBook
+    from clearance.networks.area_book import AreaBook
 
 __all__ = ["Curve", "CurveOptions", "DEFAULT_KINDS", "Item", "KINDS", "MEASURE_BATCH",
            "extract_curves", "find_bends", "find_ramps", "find_roundabouts", "find_turns",
@@ -123,20 +123,20 @@ class Curve:
         The narrowest lane of the feature.
     max_grade_pct, max_grade_change_pct
         Largest grade and largest algebraic change of grade over the feature and 3 m
-        either side (see :func:`networks.geometry.grades_pct`), without suspect heights.
+        either side (see :func:`clearance.networks.geometry.grades_pct`), without suspect heights.
     suspect_elevation
         Lone heights of the curve's lanes far off their neighbours', named by lane and
-        point (:mod:`networks.elevation`): repaired in the network on reading, so left out
+        point (:mod:`clearance.networks.elevation`): repaired in the network on reading, so left out
         of the centre line's z, the grade, the vertical checks and the levels; ``""`` when
         there are none.
     own_lanes, roadway, paved
         Shapely areas (properties): the curve's lanes (its centre line buffered by half
         the lane width), the same-direction roadway, the paved area (see
-        :mod:`networks.areas`). ``None`` when areas were not requested. Curves from
+        :mod:`clearance.networks.areas`). ``None`` when areas were not requested. Curves from
         :func:`extract_curves` build them on first use, a batch of curves at a time, and
-        release them again (see :mod:`networks.area_book`).
+        release them again (see :mod:`clearance.networks.area_book`).
     area_book, area_batch
-        The :class:`~networks.area_book.AreaBook` that builds the areas, and the curve's
+        The :class:`~clearance.networks.area_book.AreaBook` that builds the areas, and the curve's
         batch in it (None and -1 when the areas are set for good or not requested).
     """
 
@@ -178,14 +178,14 @@ class Curve:
 
     @property
     def roadway(self) -> BaseGeometry | None:
-        """The same-direction roadway (see :mod:`networks.areas`)."""
+        """The same-direction roadway (see :mod:`clearance.networks.areas`)."""
         if self._roadway is None and self.area_book is not None:
             self.area_book.load(self.area_batch)
         return self._roadway
 
     @property
     def paved(self) -> BaseGeometry | None:
-        """The paved area (see :mod:`networks.areas`)."""
+        """The paved area (see :mod:`clearance.networks.areas`)."""
         if self._paved is None and self.area_book is not None:
             self.area_book.load(self.area_batch)
         return self._paved
@@ -193,7 +193,7 @@ class Curve:
     @property
     def levels(self) -> tuple[Level, ...]:
         """The curve's level segments with their storeys' areas (docs/design.md §6,
-        "Levels"; :func:`networks.area_book.curve_levels`): none on a flat network."""
+        "Levels"; :func:`clearance.networks.area_book.curve_levels`): none on a flat network."""
         if self._levels is None:
             self._levels = self.area_book.levels(self) if self.area_book is not None else ()
         return self._levels
@@ -275,7 +275,8 @@ def _measure(
     for n, ((cid, kind, junction, _), path, min_r, turn, slope) in enumerate(zip(
         items, paths, prof.min_radius_m.tolist(), prof.turn_deg.tolist(), sloped, strict=True
     )):
-        line = path.centerline  # lone heights were repaired on reading (networks.elevation)
+        # lone heights were repaired on reading (clearance.networks.elevation)
+        line = path.centerline
         suspect = suspect_notes(net, path.lanes) if net.suspect_heights else ""
         a, b = path.core_start_m, path.core_end_m
         g, dg = grades_pct(line, a - w, b + w, w) if slope else (0.0, 0.0)
@@ -369,7 +370,7 @@ def find_roundabouts(
     """Yield one ``roundabout`` curve per entry edge → exit edge of each ring."""
     import heapq
 
-    from networks.paths import lane_length
+    from clearance.networks.paths import lane_length
 
     for rb in net.roundabouts:
         ring_edges = set(rb.edges)
@@ -592,15 +593,16 @@ def extract_curves(
     Parameters
     ----------
     net
-        A network from :func:`networks.reader.read_network`.
+        A network from :func:`clearance.networks.reader.read_network`.
     kinds
         Any of :data:`KINDS`; by default :data:`DEFAULT_KINDS` (``uturn`` left out).
     options
         Extraction parameters (approach length, fitting window, thresholds).
     areas
-        Give each curve its three shapely areas (:mod:`networks.areas`). They are built
+        Give each curve its three shapely areas (:mod:`clearance.networks.areas`). They are built
         on first use, for a batch of curves at a time, and at most a few batches are kept
-        (:class:`networks.area_book.AreaBook`); :func:`networks.areas.attach_areas` builds
+        (:class:`clearance.networks.area_book.AreaBook`);
+        :func:`clearance.networks.areas.attach_areas` builds
         and keeps them all at once.
 
     Raises
@@ -611,14 +613,14 @@ def extract_curves(
     wanted = list(dict.fromkeys(kinds))
     bad = [k for k in wanted if k not in KINDS]
     if bad:
-        raise InputError(f"unknown curve kind(s) {', '.join(bad)}; choose from {', '.join(KINDS)}")
+        raise OptionError(f"unknown curve kind(s) {', '.join(bad)}; choose from {', '.join(KINDS)}")
     opts = options or CurveOptions()
     with gc_paused():  # hundreds of thousands of objects that live on (see gc_paused)
         return _extract(net, wanted, opts, areas)
 
 
 def _extract(net: Network, wanted: list[str], opts: CurveOptions, areas: bool) -> list[Curve]:
-    from networks.area_book import AreaBook
+    from clearance.networks.area_book import AreaBook
 
     curves: list[Curve] = []
     if "turn" in wanted:

@@ -3,14 +3,15 @@
 A network may hold a single shape point far off its neighbours' heights (a real network has
 a 218 m point on a motorway at about 40 m, which a grade over it reports as 247 %; a hostile
 one a point at 1e6 m at a lane's junction end). Such a point is found with
-:func:`analysis.vertical.suspect_points` on the profile of every way through the network a
+:func:`clearance.analysis.vertical.suspect_points` on the profile of every way through the network a
 vehicle drives (:func:`repair_suspect_heights`: each connection's approach lane, internal
 lane and exit lane end to end, and each lane alone; points at the same station, where lanes
 join, taken as one), named by its lane and its index in that lane's shape, and its height
 is replaced by the line through its neighbours *in the network itself*, before any centre
 line, area or storey is made of it: neither the grade, nor the vertical checks, nor the
 levels (docs/design.md §6) see it. The notes name each point
-(:attr:`networks.model.Network.suspect_heights`, and :attr:`~networks.model.Network.repairs`,
+(:attr:`clearance.networks.model.Network.suspect_heights`, and
+:attr:`~clearance.networks.model.Network.repairs`,
 which a command shows as warnings).
 """
 
@@ -20,9 +21,9 @@ from collections.abc import Iterator, Sequence
 
 import numpy as np
 
-from analysis.vertical import suspect_points, without_points
-from networks.geometry import arc_length
-from networks.model import Network
+from clearance.analysis.vertical import suspect_points, without_points
+from clearance.networks.geometry import arc_length
+from clearance.networks.model import Network
 
 __all__ = ["repair_suspect_heights", "suspect_notes"]
 
@@ -48,7 +49,7 @@ def repair_suspect_heights(net: Network) -> None:
     --------
     A lane of a motorway at about 40 m whose middle point is at 218 m:
 
-    >>> from networks.model import Edge, Lane, Location
+    >>> from clearance.networks.model import Edge, Lane, Location
     >>> shape = np.array([[0, 0, 40.0], [50, 0, 40.2], [122, 0, 218], [200, 0, 40.6]])
     >>> lane = Lane("m_0", "m", 0, 3.5, "normal", frozenset(), shape, 200.0, 33.0)
     >>> net = Network("n", {"m_0": lane}, {"m": Edge("m", "a", "b", "normal", 1, ["m_0"])},

@@ -15,7 +15,7 @@ import math
 
 import numpy as np
 
-from networks.profiles import profiles
+from clearance.networks.profiles import profiles
 
 __all__ = ["MIN_CHORD_M", "arc_length", "chord_headings", "clean_polyline", "curvature_profile",
            "cut_polyline", "grades_pct", "heading_at", "heading_rad_to_navigational",
@@ -175,11 +175,11 @@ def curvature_profile(
     """Signed curvature (1/m, left positive) at stations along a polyline.
 
     Headings at chord midpoints (chords extended to at least
-    :data:`~networks.profiles.MIN_CHORD_M`), interpolated, differenced over a window of
+    :data:`~clearance.networks.profiles.MIN_CHORD_M`), interpolated, differenced over a window of
     ``window_m`` of arc length centred on each station (shrunk at the ends of the line);
     with ``adaptive``, a second pass uses a window of half the radius found (between
     ``window_m`` and :data:`MAX_WINDOW_M`). Stations are every ``step_m`` from
-    ``s_from_m`` to ``s_to_m`` (default: the end). See :func:`networks.profiles.profiles`
+    ``s_from_m`` to ``s_to_m`` (default: the end). See :func:`clearance.networks.profiles.profiles`
     for many lines at once.
 
     Returns

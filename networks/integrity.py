@@ -5,13 +5,13 @@ told apart here, after the reader has parsed a file:
 
 - **Refused.** A reference SUMO itself refuses to load (a connection from or to an unknown
   edge, a lane index a connection's edge does not have, a ``via`` lane that does not exist,
-  a roundabout naming an unknown edge) raises :class:`~vehicles.errors.InputError` naming
+  a roundabout naming an unknown edge) raises :class:`~clearance.vehicles.errors.InputError` naming
   the element (:func:`check_references`). SUMO's own check
-  (:func:`networks.sumo.load_check.sumo_refusal`) says the same in SUMO's words first.
+  (:func:`clearance.networks.sumo.load_check.sumo_refusal`) says the same in SUMO's words first.
 - **Left out or repaired.** What SUMO loads but gives no geometry a vehicle can be judged
   on is left out, or repaired the way SUMO reads it, each with a note naming the element
-  (:attr:`networks.model.Network.repairs`): a lane whose shape has fewer than two points or
-  a coordinate that is not a finite number within :data:`~networks.shapes.MAX_COORD_M`
+  (:attr:`clearance.networks.model.Network.repairs`): a lane whose shape has fewer than two points
+  or a coordinate that is not a finite number within :data:`~clearance.networks.shapes.MAX_COORD_M`
   (SUMO loads a walking area drawn as one point), with its connections, and an edge left
   with no lane (:func:`leave_out_lanes`); a lane index beyond its edge's lanes and a
   roundabout naming an unknown junction (:func:`check_references`). Curves through what was
@@ -27,8 +27,8 @@ from pathlib import Path
 
 import numpy as np
 
-from networks.model import Edge, Junction, Lane, Roundabout
-from vehicles.errors import InputError
+from clearance.networks.model import Edge, Junction, Lane, Roundabout
+from clearance.vehicles.errors import NetworkError
 
 __all__ = ["ConnectionRow", "MIN_ROAD_LANE_M", "check_references", "leave_out_lanes",
            "not_at_road_scale"]
@@ -154,7 +154,7 @@ def check_references(path: Path, edges: dict[str, Edge], lanes: dict[str, Lane],
     >>> check_references(Path("n"), {"a": e}, lanes, [("a", "b", 0, 0, None, "s")], [], {})
     Traceback (most recent call last):
     ...
-    vehicles.errors.InputError: n: <connection from="a" to="b">: unknown to-edge 'b'
+    clearance.vehicles.errors.NetworkError: n: <connection from="a" to="b">: unknown to-edge 'b'
     """
     repairs = [] if repairs is None else repairs
     _repair_lane_indices(edges, lanes, repairs)
@@ -164,8 +164,8 @@ def check_references(path: Path, edges: dict[str, Edge], lanes: dict[str, Lane],
     for r in roundabouts:
         unknown = [e for e in r.edges if e not in edges]
         if unknown:
-            raise InputError(f"{path}: <roundabout edges=...>: unknown edge(s) "
-                             f"{', '.join(map(repr, unknown[:5]))}")
+            raise NetworkError(f"{path}: <roundabout edges=...>: unknown edge(s) "
+                             f"{', '.join(map(repr, unknown[:5]))}", file=path)
         nodes = tuple(j for j in r.nodes if j in junctions)
         if len(nodes) < len(r.nodes):
             repairs.append(f"<roundabout nodes=...>: unknown junction(s) "
@@ -232,13 +232,13 @@ def _refuse_connection(path: Path, row: ConnectionRow, lane_counts: dict[str, in
     tag = f'<connection from="{frm}" to="{to}">'
     n_from, n_to = lane_counts.get(frm), lane_counts.get(to)
     if n_from is None:
-        raise InputError(f"{path}: {tag}: unknown from-edge {frm!r}")
+        raise NetworkError(f"{path}: {tag}: unknown from-edge {frm!r}", file=path)
     if n_to is None:
-        raise InputError(f"{path}: {tag}: unknown to-edge {to!r}")
+        raise NetworkError(f"{path}: {tag}: unknown to-edge {to!r}", file=path)
     if not 0 <= from_lane < n_from:
-        raise InputError(f"{path}: {tag}: fromLane {from_lane} out of range (edge {frm!r} "
-                         f"has {n_from} lane(s))")
+        raise NetworkError(f"{path}: {tag}: fromLane {from_lane} out of range (edge {frm!r} "
+                         f"has {n_from} lane(s))", file=path)
     if not 0 <= to_lane < n_to:
-        raise InputError(f"{path}: {tag}: toLane {to_lane} out of range (edge {to!r} has "
-                         f"{n_to} lane(s))")
-    raise InputError(f"{path}: {tag}: via lane {via!r} does not exist")
+        raise NetworkError(f"{path}: {tag}: toLane {to_lane} out of range (edge {to!r} has "
+                         f"{n_to} lane(s))", file=path)
+    raise NetworkError(f"{path}: {tag}: via lane {via!r} does not exist", file=path)

@@ -1,13 +1,15 @@
 """Loading a network for a command: SUMO's verdict on the file and the reader's, once.
 
 :func:`load_network` is what every command calls before any run: the file must be a regular
-file of XML (:func:`networks.safe_xml.scan_prolog`: SUMO is never started on a FIFO or a
-device), SUMO is asked whether it loads it (:class:`networks.sumo.load_check.SumoLoadCheck`,
+file of XML (:func:`clearance.networks.safe_xml.scan_prolog`: SUMO is never started on a FIFO or a
+device), SUMO is asked whether it loads it
+(:class:`clearance.networks.sumo.load_check.SumoLoadCheck`,
 in a process of its own while this one reads), and the reader reads it
-(:func:`networks.reader.read_network`). What SUMO refuses is an
-:class:`~vehicles.errors.InputError` naming the file and giving SUMO's reason; what it loads
-is read, and what the reader repaired or left out is logged as warnings naming each element.
-Workers read their copy with :func:`~networks.reader.read_network` alone: the check was made.
+(:func:`clearance.networks.reader.read_network`). What SUMO refuses is an
+:class:`~clearance.vehicles.errors.InputError` naming the file and giving SUMO's reason; what it
+loads is read, and what the reader repaired or left out is logged as warnings naming each element.
+Workers read their copy with :func:`~clearance.networks.reader.read_network` alone: the check was
+made.
 """
 
 from __future__ import annotations
@@ -16,11 +18,11 @@ import logging
 import os
 from pathlib import Path
 
-from networks.model import Network
-from networks.reader import read_network
-from networks.safe_xml import scan_prolog
-from networks.sumo.load_check import SumoLoadCheck
-from vehicles.errors import InputError, LimitError
+from clearance.networks.model import Network
+from clearance.networks.reader import read_network
+from clearance.networks.safe_xml import scan_prolog
+from clearance.networks.sumo.load_check import SumoLoadCheck
+from clearance.vehicles.errors import InputError, LimitError, NetworkError
 
 __all__ = ["MAX_REPAIRS_LOGGED", "load_network", "load_networks"]
 
@@ -68,7 +70,8 @@ def load_networks(paths: list[Path]) -> list[Network]:
 def _start_check(p: Path) -> SumoLoadCheck:
     root = scan_prolog(p)  # a regular file of XML, before SUMO is started on it
     if root != "net":
-        raise InputError(f"{p}: not a SUMO network (root element <{root}>, expected <net>)")
+        raise NetworkError(f"{p}: not a SUMO network (root element <{root}>, expected <net>)",
+                           file=p)
     return SumoLoadCheck(p)
 
 
@@ -81,14 +84,14 @@ def _read_checked(p: Path, check: SumoLoadCheck) -> Network:
     except InputError as ours:
         why = check.refusal()
         if why is not None:
-            raise InputError(f"{p}: SUMO refuses to load this network: {why}") from None
+            raise NetworkError(f"{p}: SUMO refuses to load this network: {why}", file=p) from None
         raise ours
     except BaseException:
         check.cancel()
         raise
     why = check.refusal()
     if why is not None:
-        raise InputError(f"{p}: SUMO refuses to load this network: {why}")
+        raise NetworkError(f"{p}: SUMO refuses to load this network: {why}", file=p)
     for note in net.repairs[:MAX_REPAIRS_LOGGED]:
         log.warning("%s: %s", p, note)
     if len(net.repairs) > MAX_REPAIRS_LOGGED:

@@ -1,8 +1,8 @@
 """The network as this tool holds it: lanes, edges, connections, junctions, roundabouts.
 
-:func:`networks.reader.read_network` fills a :class:`Network` from a ``.net.xml``; everything
-else reads it. Only what curve extraction, the areas and the exports need is kept (lanes with
-3-D shapes as numpy arrays, connections as named tuples), with SUMO's vehicle classes and
+:func:`clearance.networks.reader.read_network` fills a :class:`Network` from a ``.net.xml``;
+everything else reads it. Only what curve extraction, the areas and the exports need is kept (lanes
+with 3-D shapes as numpy arrays, connections as named tuples), with SUMO's vehicle classes and
 lane width defaults.
 
 Example
@@ -159,15 +159,16 @@ class Network:
     roundabouts: list[Roundabout]
     location: Location
     #: What was left out or repaired while reading, in words naming each element
-    #: (:mod:`networks.integrity`): what SUMO loads but no vehicle can be judged on.
+    #: (:mod:`clearance.networks.integrity`): what SUMO loads but no vehicle can be judged on.
     repairs: list[str] = field(default_factory=list)
-    #: Lane shape points whose lone height was repaired (:mod:`networks.elevation`): notes
+    #: Lane shape points whose lone height was repaired (:mod:`clearance.networks.elevation`): notes
     #: naming lane and point, by lane id.
     suspect_heights: dict[str, list[str]] = field(default_factory=dict)
     _out: dict[str, list[Connection]] | None = field(default=None, repr=False)
     _in: dict[str, list[Connection]] | None = field(default=None, repr=False)
     _clean: dict[str, tuple[np.ndarray, float]] = field(default_factory=dict, repr=False)
-    #: Lane shapes cut into short pieces, by (lane id, step): :func:`networks.stacking.densified`.
+    #: Lane shapes cut into short pieces, by (lane id, step):
+    #: :func:`clearance.networks.stacking.densified`.
     dense: dict[tuple[str, float], np.ndarray] = field(default_factory=dict, repr=False)
 
     def lane_line(self, lane_id: str) -> tuple[np.ndarray, float]:

@@ -16,9 +16,9 @@ from itertools import compress
 
 import numpy as np
 
-from networks.geometry import MIN_CHORD_M, cut_polyline, radius_from_curvature
-from networks.model import ROAD_VCLASSES, Connection, Network
-from networks.profiles import profiles
+from clearance.networks.geometry import MIN_CHORD_M, cut_polyline, radius_from_curvature
+from clearance.networks.model import ROAD_VCLASSES, Connection, Network
+from clearance.networks.profiles import profiles
 
 __all__ = ["EXTEND_DIRECTIONS", "LEAD_KEEP_M", "LEAD_MIN_RADIUS_M", "MAX_EXTENSION_LANES",
            "NOT_ROADS", "Path", "PathPlan", "build_path", "drivable", "extend_back",
@@ -85,7 +85,7 @@ def drivable(net: Network, lane_id: str) -> bool:
     Examples
     --------
     >>> import numpy as np
-    >>> from networks.reader import Lane, Location, Network
+    >>> from clearance.networks.reader import Lane, Location, Network
     >>> def lane(i, allowed, function="normal"):
     ...     return Lane(i, i[:-2], 0, 3.2, function, frozenset(allowed), np.zeros((2, 3)), 1.0, 9.0)
     >>> lanes = {"s_0": lane("s_0", {"pedestrian"}), "r_0": lane("r_0", {"passenger"}),
@@ -384,7 +384,7 @@ def steady_lead_ins(paths: list[Path], step_m: float, window_m: float) -> list[P
     every ``step_m`` over a window of ``window_m``, as the curves' profiles are).
 
     The lead-in is for bringing the vehicle to the feature in a steady state; extended
-    back straight on only (:mod:`networks.paths`), it can still hold a tight corner
+    back straight on only (:mod:`clearance.networks.paths`), it can still hold a tight corner
     inside a lane (an OSM service road's). The line then starts one fitting window after
     the last station, more than :data:`LEAD_KEEP_M` and a fitting window before the
     feature, whose radius is under :data:`LEAD_MIN_RADIUS_M`, and never closer to the feature than

@@ -7,7 +7,7 @@ from __future__ import annotations
 
 from typing import Protocol
 
-from networks.model import Network
+from clearance.networks.model import Network
 
 __all__ = ["permits", "permitted_lanes"]
 

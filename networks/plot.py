@@ -8,9 +8,9 @@ from pathlib import Path
 import numpy as np
 import shapely
 
-from networks.areas import lane_polygons
-from networks.model import Network
-from networks.reader import read_network
+from clearance.networks.areas import lane_polygons
+from clearance.networks.model import Network
+from clearance.networks.reader import read_network
 
 __all__ = ["EDGE_OF_PAVEMENT", "JUNCTION", "LANE_LINE", "MAX_MARKED_LANES", "NON_ROAD", "PAVEMENT",
            "fill_geometry", "nice_scale_m", "pavement_area", "plot_plan", "save_plan"]
@@ -70,7 +70,7 @@ def pavement_area(net: Network, lane_ids: list[str], junctions: list) -> shapely
 
     Examples
     --------
-    >>> from networks.reader import Lane, Network, Location
+    >>> from clearance.networks.reader import Lane, Network, Location
     >>> shape = lambda y: np.array([[0, y, 0], [10, y, 0.0]])
     >>> lanes = {f"e_{i}": Lane(f"e_{i}", "e", i, 3.0, "normal", frozenset(), shape(3.0 * i),
     ...                         10.0, 13.9) for i in range(2)}

@@ -1,6 +1,6 @@
-"""Compiled inner loops of :mod:`networks.profiles` (numba).
+"""Compiled inner loops of :mod:`clearance.networks.profiles` (numba).
 
-:func:`profiles` of :mod:`networks.profiles` hands a chunk of lines to these loops as one
+:func:`profiles` of :mod:`clearance.networks.profiles` hands a chunk of lines to these loops as one
 array of points and a count of points per line. :func:`chord_frame` measures arc length and
 the extended chords, numpy takes their headings (its ``arctan2``, whose last bits can differ
 from the C library's that numba would call), and :func:`station_profiles` fits the curvature
@@ -179,6 +179,9 @@ def station_profiles(s: np.ndarray, key: np.ndarray, counts: np.ndarray, knot: n
                      max_window: float) -> tuple[np.ndarray, ...]:  # pragma: no cover
     """Curvature at every station of a chunk of lines, smallest radius and turn of each.
 
+    A numba kernel that must be one piece: the adaptive window of one station reads and
+    widens the same running sums the next station starts from, in one pass per line.
+
     Parameters
     ----------
     s, key, knot
@@ -188,7 +191,7 @@ def station_profiles(s: np.ndarray, key: np.ndarray, counts: np.ndarray, knot: n
     core_from, core_to
         The core of each line (arc length from its start).
     step, window, margin, adaptive, max_window
-        As :func:`networks.profiles.profiles`'s ``step_m``, ``window_m``, ``margin_m``,
+        As :func:`clearance.networks.profiles.profiles`'s ``step_m``, ``window_m``, ``margin_m``,
         ``adaptive``, ``max_window_m``.
 
     Returns

@@ -1,7 +1,7 @@
 """Curvature profiles and turn angles of many polylines at once (compiled loops).
 
-The method (see :mod:`networks.geometry`): the heading of a line is known at the midpoint of
-each chord and interpolated linearly in between, so the turn at a vertex is spread over the
+The method (see :mod:`clearance.networks.geometry`): the heading of a line is known at the midpoint
+of each chord and interpolated linearly in between, so the turn at a vertex is spread over the
 half-chords either side; curvature is the change of that heading over a window of arc
 length. Chords shorter than ``min_chord_m`` are extended to the first point at least that
 far on (SUMO writes coordinates to 0.01 m, a heading noise of 1° on 0.5 m chords). A second
@@ -9,7 +9,7 @@ pass widens the window to half the radius found (up to ``max_window_m``) so that
 does not make wide curves look tight.
 
 All lines are concatenated and processed in chunks, so that the per-call cost of numpy and
-of the compiled loops (:mod:`networks.profile_kernel`) is paid per chunk, not per line.
+of the compiled loops (:mod:`clearance.networks.profile_kernel`) is paid per chunk, not per line.
 """
 
 from __future__ import annotations
@@ -21,8 +21,8 @@ from typing import NamedTuple
 
 import numpy as np
 
-from networks.collector import gc_paused
-from networks.profile_kernel import chord_frame, station_profiles
+from clearance.networks.collector import gc_paused
+from clearance.networks.profile_kernel import chord_frame, station_profiles
 
 __all__ = ["CHUNK_LINES", "MAX_WINDOW_M", "MIN_CHORD_M", "Profiles", "Stations", "profiles"]
 
@@ -184,8 +184,8 @@ def _chunk(
     """:func:`profiles` of one chunk of lines: stations, curvature and radius per line, and
     the smallest radii, turn angles (degrees) and :class:`Stations` of the lines.
 
-    The loops are compiled (:mod:`networks.profile_kernel`); numpy takes the headings of the
-    chords between them.
+    The loops are compiled (:mod:`clearance.networks.profile_kernel`); numpy takes the headings of
+    the chords between them.
 
     Examples
     --------

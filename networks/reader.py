@@ -7,10 +7,11 @@ built, so memory grows with the geometry, not with the XML. Shapes are kept as s
 while reading and parsed in bulk at the end (:func:`parse_shapes`).
 
 The reader reads what SUMO loads: what SUMO refuses raises
-:class:`~vehicles.errors.InputError` naming the element, and what SUMO loads but no vehicle
-can be judged on (a lane width that is not one, a shape point that is not a finite
+:class:`~clearance.vehicles.errors.InputError` naming the element, and what SUMO loads but no
+vehicle can be judged on (a lane width that is not one, a shape point that is not a finite
 coordinate, a walking area drawn as one point) is repaired or left out with a note in
-:attr:`Network.repairs <networks.model.Network.repairs>` (:mod:`networks.integrity`).
+:attr:`Network.repairs <clearance.networks.model.Network.repairs>`
+(:mod:`clearance.networks.integrity`).
 
 Example
 -------
@@ -32,10 +33,10 @@ from typing import TYPE_CHECKING, cast
 
 from lxml import etree
 
-from networks.collector import gc_paused
-from networks.elevation import repair_suspect_heights
-from networks.integrity import ConnectionRow, check_references, leave_out_lanes
-from networks.model import (
+from clearance.networks.collector import gc_paused
+from clearance.networks.elevation import repair_suspect_heights
+from clearance.networks.integrity import ConnectionRow, check_references, leave_out_lanes
+from clearance.networks.model import (
     DEFAULT_LANE_WIDTH_M,
     MAX_LANE_WIDTH_M,
     Edge,
@@ -47,7 +48,7 @@ from networks.model import (
     new_connection,
     resolve_allowed,
 )
-from networks.safe_xml import (
+from clearance.networks.safe_xml import (
     MAX_ELEMENTS_ENV,
     max_elements,
     open_binary,
@@ -55,8 +56,8 @@ from networks.safe_xml import (
     scan_prolog,
     too_big,
 )
-from networks.shapes import EMPTY_SHAPE, MAX_COORD_M, parse_shapes
-from vehicles.errors import InputError
+from clearance.networks.shapes import EMPTY_SHAPE, MAX_COORD_M, parse_shapes
+from clearance.vehicles.errors import NetworkError
 
 if TYPE_CHECKING:  # names of the lxml stubs only, not of lxml itself
     from lxml.etree._parser import CustomTargetParser
@@ -78,23 +79,24 @@ def read_network(path: str | os.PathLike[str]) -> Network:
     Returns
     -------
     Network
-        With :attr:`~networks.model.Network.repairs` naming what was repaired or left out
-        (a lane width outside (0, :data:`~networks.model.MAX_LANE_WIDTH_M`] taken as SUMO's
-        default, a lane whose shape is not two finite points within
-        :data:`~networks.shapes.MAX_COORD_M` left out, ...: :mod:`networks.integrity`).
+        With :attr:`~clearance.networks.model.Network.repairs` naming what was repaired or left out
+        (a lane width outside (0, :data:`~clearance.networks.model.MAX_LANE_WIDTH_M`] taken as
+        SUMO's default, a lane whose shape is not two finite points within
+        :data:`~clearance.networks.shapes.MAX_COORD_M` left out, ...:
+        :mod:`clearance.networks.integrity`).
 
     Raises
     ------
     InputError
         The file is missing, not a regular file, not XML, truncated, declares entities, is
-        larger than the caps of :mod:`networks.safe_xml`, is not a SUMO network, holds no
+        larger than the caps of :mod:`clearance.networks.safe_xml`, is not a SUMO network, holds no
         edges, holds a number that is not one, or a reference SUMO itself refuses
-        (:func:`networks.integrity.check_references`).
+        (:func:`clearance.networks.integrity.check_references`).
     """
     p = Path(path)
     root_tag = scan_prolog(p)
     if root_tag != "net":
-        raise InputError(f"{p}: not a SUMO network (root element <{root_tag}>, expected <net>)")
+        raise NetworkError(f"{p}: not a SUMO network (root element <{root_tag}>, expected <net>)")
     with gc_paused():  # a million objects that live on: collections would only scan them
         state = _ParseState(p)
         parser = make_parser(state)
@@ -105,11 +107,11 @@ def read_network(path: str | os.PathLike[str]) -> Network:
                     state.check_size()
             parser.close()
         except etree.XMLSyntaxError as exc:
-            raise InputError(f"{p}: malformed or truncated XML ({exc})") from exc
+            raise NetworkError(f"{p}: malformed or truncated XML ({exc})") from exc
         except (EOFError, OSError) as exc:
-            raise InputError(f"{p}: truncated or corrupt file ({exc})") from exc
+            raise NetworkError(f"{p}: truncated or corrupt file ({exc})") from exc
         net = state.finish()
-    repair_suspect_heights(net)  # lone heights are no ramps (networks.elevation)
+    repair_suspect_heights(net)  # lone heights are no ramps (clearance.networks.elevation)
     return net
 
 
@@ -126,7 +128,7 @@ def make_parser(state: _ParseState) -> CustomTargetParser[None]:
     references are read as the characters they stand for, as SUMO reads them; with
     ``False`` libxml2 hands ``&amp;`` over as ``&#38;``, and an id such as ``a&b`` would not
     be the network's. No other entity can be met: a DOCTYPE that declares one is refused
-    before parsing (:func:`~networks.safe_xml.scan_prolog`), and external ones are never
+    before parsing (:func:`~clearance.networks.safe_xml.scan_prolog`), and external ones are never
     resolved.
     """
     # lxml looks the target's methods up by name and calls only those it has; the stubs'
@@ -154,7 +156,7 @@ def _floats(text: str | None, n: int) -> tuple[float, ...] | None:
 
 
 def _usable(values: tuple[float, ...]) -> bool:
-    """Every value a finite coordinate within :data:`~networks.shapes.MAX_COORD_M`.
+    """Every value a finite coordinate within :data:`~clearance.networks.shapes.MAX_COORD_M`.
 
     >>> _usable((1.0, -2.0)), _usable((math.nan, 0.0)), _usable((1e15,))
     (True, False, False)
@@ -199,7 +201,8 @@ class _ParseState:
                 frm = get("from")
                 to = get("to")
                 if frm is None or to is None:
-                    raise InputError(f"{self.path}: a <connection> lacks 'from' or 'to'")
+                    raise NetworkError(f"{self.path}: a <connection> lacks 'from' or 'to'",
+                                       file=self.path)
                 self.connection_rows.append((  # edge ids interned: one string per edge
                     intern(frm), intern(to), int(get("fromLane", "0")),
                     int(get("toLane", "0")), get("via"), get("dir", "")))
@@ -210,7 +213,8 @@ class _ParseState:
                     return
                 lane_id = get("id")
                 if lane_id is None:
-                    raise InputError(f"{self.path}: a <lane> of edge {edge.id!r} has no id")
+                    raise NetworkError(f"{self.path}: a <lane> of edge {edge.id!r} has no id",
+                                       file=self.path)
                 width = get("width")
                 width_m = float(width) if width is not None else DEFAULT_LANE_WIDTH_M
                 if not 0.0 < width_m <= MAX_LANE_WIDTH_M:  # NaN too; SUMO loads them
@@ -228,9 +232,10 @@ class _ParseState:
             elif tag == "edge":
                 edge_id = get("id")
                 if edge_id is None:
-                    raise InputError(f"{self.path}: an <edge> has no id")
+                    raise NetworkError(f"{self.path}: an <edge> has no id", file=self.path)
                 if edge_id in self.edges:
-                    raise InputError(f"{self.path}: edge {edge_id!r} is defined twice")
+                    raise NetworkError(f"{self.path}: edge {edge_id!r} is defined twice",
+                                       file=self.path)
                 self.edge = self.edges[edge_id] = Edge(
                     edge_id, get("from", ""), get("to", ""), get("function", "normal"),
                     int(get("priority", "-1")), [])
@@ -238,19 +243,21 @@ class _ParseState:
                 return
             elif not self.seen_root:
                 if tag != "net":
-                    raise InputError(f"{self.path}: not a SUMO network (root element <{tag}>)")
+                    raise NetworkError(f"{self.path}: not a SUMO network (root element <{tag}>)",
+                                       file=self.path)
                 self.seen_root = True
             else:
                 self._start_rare(tag, get)
         except ValueError as exc:
             ident = attrib.get("id") or " ".join(f"{k}={v!r}" for k, v in attrib.items())[:80]
-            raise InputError(f"{self.path}: bad value in <{tag} {ident}>: {exc}") from exc
+            raise NetworkError(f"{self.path}: bad value in <{tag} {ident}>: {exc}",
+                               file=self.path) from exc
 
     def _start_rare(self, tag: str, get) -> None:  # noqa: ANN001 - attrib.get
         if tag == "junction":
             jid = get("id")
             if jid is None:
-                raise InputError(f"{self.path}: a <junction> has no id")
+                raise NetworkError(f"{self.path}: a <junction> has no id", file=self.path)
             self.junction_shapes.append(get("shape") or "")
             self.junctions[jid] = Junction(
                 jid,
@@ -293,7 +300,7 @@ class _ParseState:
         """Called by lxml at the end of the document."""
 
     def check_size(self) -> None:
-        """Refuse more elements than :func:`~networks.safe_xml.max_elements` (called after
+        """Refuse more elements than :func:`~clearance.networks.safe_xml.max_elements` (called after
         each chunk fed: a chunk adds at most about 150,000)."""
         n = (len(self.connection_rows) + len(self.lanes) + len(self.edges)
              + len(self.junctions) + len(self.roundabouts))
@@ -303,7 +310,8 @@ class _ParseState:
 
     def _place_junctions(self) -> None:
         """A junction whose position SUMO loads but is not a finite coordinate within
-        :data:`~networks.shapes.MAX_COORD_M` is placed at the middle of its shape (at 0 when
+        :data:`~clearance.networks.shapes.MAX_COORD_M` is placed at the middle of its shape (at 0
+        when
         it has none), with a note."""
         for j in self.junctions.values():
             if _usable((j.x, j.y, j.z)):
@@ -327,8 +335,8 @@ class _ParseState:
         )
         for what, items, shapes, done in groups:
             if len(items) - done != len(shapes):
-                raise InputError(f"{self.path}: {len(shapes) - len(items) + done} {what}(s) "
-                                 "reuse an id already read")
+                raise NetworkError(f"{self.path}: {len(shapes) - len(items) + done} {what}(s) "
+                                 "reuse an id already read", file=self.path)
             objs = list(islice(items.values(), done, None))
             bad: dict[int, str] = {}
             arrays = parse_shapes(shapes, [o.id for o in objs], what, on_bad=bad.__setitem__)

@@ -4,7 +4,7 @@ Only the named file is opened: never a DTD it names (``<!DOCTYPE net SYSTEM "...
 never anything on the network. Only a regular file is read (a FIFO, a device, a directory
 or a symlink loop is refused before a byte is read), and no more than
 :func:`max_bytes` of it, decompressed. Every failure becomes an
-:class:`~vehicles.errors.InputError` that names the file.
+:class:`~clearance.vehicles.errors.NetworkError` that names the file.
 """
 
 from __future__ import annotations
@@ -16,8 +16,8 @@ from collections.abc import Iterator
 from pathlib import Path
 from typing import BinaryIO
 
-from vehicles.errors import InputError, LimitError
-from vehicles.files import env_limit, open_regular
+from clearance.vehicles.errors import InputError, LimitError, NetworkError
+from clearance.vehicles.files import env_limit, open_regular
 
 __all__ = ["DEFAULT_MAX_BYTES", "DEFAULT_MAX_ELEMENTS", "MAX_ELEMENTS_ENV", "MAX_MB_ENV",
            "MAX_PROLOG_BYTES", "max_bytes", "max_elements", "open_binary", "read_chunks",
@@ -71,13 +71,15 @@ def too_big(path: str | os.PathLike[str], what: str, limit: int, env: str) -> Li
     )
 
 
-def open_binary(path: str | os.PathLike[str]) -> BinaryIO:
+def open_binary(path: str | os.PathLike[str],
+                error: type[InputError] = NetworkError) -> BinaryIO:
     """Open ``path`` for reading bytes, decompressing it when it is gzip (by its magic bytes).
 
     Raises
     ------
-    InputError
-        The file does not exist, is not a regular file, cannot be read, or is a plain file
+    NetworkError
+        (or ``error``, for files other than networks) The file does not exist, is not a
+        regular file, cannot be read, or is a plain file
         larger than :func:`max_bytes`.
     """
     p = Path(path)
@@ -87,7 +89,7 @@ def open_binary(path: str | os.PathLike[str]) -> BinaryIO:
         raw.seek(0)
     except OSError as exc:
         raw.close()
-        raise InputError(f"{p}: cannot be read ({exc.strerror})") from None
+        raise error(f"{p}: cannot be read ({exc.strerror})", file=p) from None
     if magic == b"\x1f\x8b":
         return gzip.GzipFile(fileobj=raw, mode="rb")  # type: ignore[return-value]
     limit = max_bytes()
@@ -116,7 +118,7 @@ def read_chunks(fh: BinaryIO, path: str | os.PathLike[str], size: int) -> Iterat
         yield chunk
 
 
-def scan_prolog(path: str | os.PathLike[str]) -> str:
+def scan_prolog(path: str | os.PathLike[str], error: type[InputError] = NetworkError) -> str:
     """Check the prolog of an XML file and return the name of its root element.
 
     The prolog may hold an XML declaration, processing instructions, comments and a
@@ -134,14 +136,14 @@ def scan_prolog(path: str | os.PathLike[str]) -> str:
     """
     p = Path(path)
     buf = b""
-    with open_binary(p) as fh:
+    with open_binary(p, error) as fh:
         pos = 0
         while True:
             if len(buf) - pos < 4096 and len(buf) < MAX_PROLOG_BYTES:
                 try:
                     chunk = fh.read(65536)
                 except (OSError, EOFError) as exc:
-                    raise InputError(f"{p}: cannot be decompressed ({exc})") from exc
+                    raise error(f"{p}: cannot be decompressed ({exc})", file=p) from exc
                 buf += chunk
                 if chunk:
                     continue
@@ -153,39 +155,41 @@ def scan_prolog(path: str | os.PathLike[str]) -> str:
                 continue
             if pos >= len(buf):
                 if not buf.strip():
-                    raise InputError(f"{p}: the file is empty")
-                raise InputError(f"{p}: not XML (no root element found)")
+                    raise error(f"{p}: the file is empty", file=p)
+                raise error(f"{p}: not XML (no root element found)", file=p)
             if buf.startswith(b"<?", pos):
                 end = buf.find(b"?>", pos)
-                pos = _advance(p, buf, end, 2)
+                pos = _advance(p, buf, end, 2, error)
             elif buf.startswith(b"<!--", pos):
                 end = buf.find(b"-->", pos)
-                pos = _advance(p, buf, end, 3)
+                pos = _advance(p, buf, end, 3, error)
             elif buf.startswith(b"<!DOCTYPE", pos) or buf.startswith(b"<!doctype", pos):
                 start = pos
                 end = _doctype_end(buf, pos)
-                pos = _advance(p, buf, end, 1)
+                pos = _advance(p, buf, end, 1, error)
                 if b"<!ENTITY" in buf[start:pos].upper():
-                    raise InputError(
+                    raise error(
                         f"{p}: refused: the DOCTYPE declares entities (entity expansion is "
                         "never performed)"
                     )
             elif buf.startswith(b"<", pos):
                 m = _NAME_RE.match(buf, pos + 1)
                 if not m:
-                    raise InputError(f"{p}: not XML (unexpected markup at byte {pos})")
+                    raise error(f"{p}: not XML (unexpected markup at byte {pos})", file=p)
                 return m.group(0).decode("ascii", "replace")
             else:
-                raise InputError(f"{p}: not XML (text before the root element)")
+                raise error(f"{p}: not XML (text before the root element)", file=p)
             if pos >= MAX_PROLOG_BYTES:
-                raise InputError(f"{p}: the XML prolog is longer than {MAX_PROLOG_BYTES} bytes")
+                raise error(f"{p}: the XML prolog is longer than {MAX_PROLOG_BYTES} bytes",
+                                 file=p)
 
 
-def _advance(path: Path, buf: bytes, end: int, marker_len: int) -> int:
+def _advance(path: Path, buf: bytes, end: int, marker_len: int,
+             error: type[InputError] = NetworkError) -> int:
     if end < 0:
         if len(buf) >= MAX_PROLOG_BYTES:
-            raise InputError(f"{path}: the XML prolog is longer than {MAX_PROLOG_BYTES} bytes")
-        raise InputError(f"{path}: not XML or truncated (unterminated markup in the prolog)")
+            raise error(f"{path}: the XML prolog is longer than {MAX_PROLOG_BYTES} bytes")
+        raise error(f"{path}: not XML or truncated (unterminated markup in the prolog)")
     return end + marker_len
 
 

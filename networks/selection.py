@@ -4,13 +4,15 @@ A :class:`Selection` keeps a curve when it passes every criterion given (an empt
 criterion passes everything):
 
 ``kinds``
-    Its kind is one of these (any kind :data:`networks.curves.KINDS` defines). The kinds
-    are the cheapest criterion: they are handed to :func:`networks.curves.extract_curves`,
+    Its kind is one of these (any kind :data:`clearance.networks.curves.KINDS` defines). The kinds
+    are the cheapest criterion: they are handed to :func:`clearance.networks.curves.extract_curves`,
     so curves of other kinds are never measured.
 ``junctions``
     Its ``junction`` is one of these ids (a turn's junction, the ring node a roundabout
     curve enters, the junction a ramp or a bend starts from). An id the network does not
     have is bad input (:func:`check_junctions`, with close matches).
+``curve_ids``
+    Its id is one of these (a route study's passages, :mod:`clearance.reports.study.routes`).
 ``bbox``
     Its feature (the centre line between ``core_start_m`` and ``core_end_m``, without the
     lead-in and run-out) intersects the box ``(xmin, ymin, xmax, ymax)`` in the network's
@@ -30,10 +32,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from networks.curves import KINDS, Curve, CurveOptions, extract_curves
-from networks.geometry import cut_polyline
-from networks.model import Network
-from vehicles.errors import InputError
+from clearance.networks.curves import KINDS, Curve, CurveOptions, extract_curves
+from clearance.networks.geometry import cut_polyline
+from clearance.networks.model import Network
+from clearance.vehicles.errors import OptionError
 
 __all__ = ["BBox", "Selection", "check_junctions", "feature_line", "in_bbox", "load_selected",
            "parse_bbox", "select"]
@@ -48,17 +50,18 @@ class Selection:
     kinds: tuple[str, ...] = ()
     junctions: tuple[str, ...] = ()
     bbox: BBox | None = None
+    curve_ids: frozenset[str] | None = None
 
     def __post_init__(self) -> None:
         bad = [k for k in self.kinds if k not in KINDS]
         if bad:
-            raise InputError(f"unknown curve kind(s) {', '.join(bad)}; choose from "
+            raise OptionError(f"unknown curve kind(s) {', '.join(bad)}; choose from "
                              f"{', '.join(KINDS)}")
 
     @property
     def narrows(self) -> bool:
         """Whether curves are dropped after extraction (by junction or box)."""
-        return bool(self.junctions) or self.bbox is not None
+        return bool(self.junctions) or self.bbox is not None or self.curve_ids is not None
 
     @property
     def is_empty(self) -> bool:
@@ -97,6 +100,8 @@ class Selection:
             parts.append("junction " + ", ".join(self.junctions))
         if self.bbox is not None:
             parts.append("bbox " + ",".join(f"{v:g}" for v in self.bbox))
+        if self.curve_ids is not None:
+            parts.append(f"{len(self.curve_ids)} curves of the routes")
         return ", ".join(parts) or "every curve"
 
 
@@ -122,11 +127,11 @@ def parse_bbox(text: str) -> BBox:
     except ValueError:
         values = []
     if len(values) != 4 or not all(math.isfinite(v) for v in values):
-        raise InputError(f"--bbox {text!r}: give four numbers XMIN,YMIN,XMAX,YMAX "
+        raise OptionError(f"--bbox {text!r}: give four numbers XMIN,YMIN,XMAX,YMAX "
                          "(metres, network coordinates)")
     xmin, ymin, xmax, ymax = values
     if xmin > xmax or ymin > ymax:
-        raise InputError(f"--bbox {text!r}: XMIN must not exceed XMAX nor YMIN YMAX")
+        raise OptionError(f"--bbox {text!r}: XMIN must not exceed XMAX nor YMIN YMAX")
     return xmin, ymin, xmax, ymax
 
 
@@ -142,7 +147,7 @@ def check_junctions(junctions: Iterable[str], networks: Sequence[Network]) -> No
         close = difflib.get_close_matches(jid, known, n=3, cutoff=0.6)
         hint = f"; did you mean {', '.join(repr(c) for c in close)}?" if close else ""
         where = ", ".join(str(net.path) for net in networks)
-        raise InputError(f"--junction {jid!r}: no such junction in {where}{hint}")
+        raise OptionError(f"--junction {jid!r}: no such junction in {where}{hint}")
 
 
 def feature_line(curve: Curve) -> np.ndarray:
@@ -183,8 +188,10 @@ def select(curves: Iterable[Curve], selection: Selection) -> list[Curve]:
     kinds = set(selection.kinds)
     junctions = set(selection.junctions)
     bbox = selection.bbox
+    ids = selection.curve_ids
     return [c for c in curves
-            if (not kinds or c.kind in kinds)
+            if (ids is None or c.curve_id in ids)
+            and (not kinds or c.kind in kinds)
             and (not junctions or c.junction in junctions)
             and (bbox is None or in_bbox(c, bbox))]
 
@@ -198,14 +205,14 @@ def load_selected(
 
     Only the selected kinds are extracted. When the selection also drops curves by
     junction or box, the curves are extracted without areas, filtered, and only the kept
-    ones get an :class:`~networks.area_book.AreaBook` (so no area of a dropped curve is
+    ones get an :class:`~clearance.networks.area_book.AreaBook` (so no area of a dropped curve is
     ever built).
     """
     selection = selection or Selection()
     kinds = selection.effective_kinds()
     if not selection.narrows:
         return extract_curves(net, kinds, options=options)
-    from networks.area_book import AreaBook
+    from clearance.networks.area_book import AreaBook
 
     kept = select(extract_curves(net, kinds, options=options, areas=False), selection)
     if kept:

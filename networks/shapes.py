@@ -14,7 +14,7 @@ from itertools import repeat
 
 import numpy as np
 
-from vehicles.errors import InputError
+from clearance.vehicles.errors import NetworkError
 
 __all__ = ["EMPTY_SHAPE", "MAX_COORD_M", "parse_shape", "parse_shapes"]
 
@@ -60,7 +60,7 @@ def parse_shapes(
     grouped by dimensionality and number of points (each group becomes one (M, N, 3)
     array whose rows are the shapes returned); others (mixed, or irregular spacing) one
     by one with :func:`parse_shape`. A bad shape (not numbers, a coordinate not finite or
-    beyond :data:`MAX_COORD_M`) raises :class:`~vehicles.errors.InputError` naming
+    beyond :data:`MAX_COORD_M`) raises :class:`~clearance.vehicles.errors.InputError` naming
     ``what`` and the string's entry in ``names``; with ``on_bad``, it is called with the
     string's index and the reason instead, and the shape is empty.
 
@@ -94,7 +94,7 @@ def parse_shapes(
             return _parse_one(texts[i], names, what, i)
         try:
             return _parse_one(texts[i], names, what, i)
-        except InputError as exc:
+        except NetworkError as exc:
             on_bad(i, str(exc))
             return EMPTY_SHAPE
 
@@ -162,10 +162,10 @@ def _parse_one(text: str, names: list[str] | None, what: str, i: int) -> np.ndar
     try:
         arr = parse_shape(text)
     except ValueError as exc:
-        raise InputError(f"{what}: bad shape: {exc}") from exc
+        raise NetworkError(f"{what}: bad shape: {exc}") from exc
     if not np.isfinite(arr).all():
-        raise InputError(f"{what}: non-finite coordinate in shape {text[:60]!r}")
+        raise NetworkError(f"{what}: non-finite coordinate in shape {text[:60]!r}")
     if not (np.abs(arr) <= MAX_COORD_M).all():
-        raise InputError(f"{what}: coordinate beyond +/-{MAX_COORD_M:g} m in shape "
+        raise NetworkError(f"{what}: coordinate beyond +/-{MAX_COORD_M:g} m in shape "
                          f"{text[:60]!r} (precision would be lost)")
     return arr

@@ -1,7 +1,7 @@
 """Storeys: the parts of a network that lie over or under another part of it.
 
 A road that climbs is not a second storey. Swept paths, lanes and pavement are compared in
-plan (grade is judged on its own, :mod:`analysis.vertical`); heights decide what a vehicle
+plan (grade is judged on its own, :mod:`clearance.analysis.vertical`); heights decide what a vehicle
 meets only where the network lies over itself: a helix's turns, a garage's floors, a bridge
 over a road. :func:`stacking` finds those parts: every lane is cut into pieces of at most
 :data:`PIECE_M`, each with its footprint (its part of the lane's polygon) and its heights,
@@ -17,7 +17,7 @@ through the part over that turn, is not (docs/design.md §6, "Levels").
 
 Example
 -------
->>> from networks.reader import read_network
+>>> from clearance.networks.reader import read_network
 >>> helix = stacking(read_network("networks/samples/helix/helix.net.xml"))
 >>> bool(helix.lanes["helix_0"].any()), "approach_0" in helix.lanes
 (True, False)
@@ -30,7 +30,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import shapely
 
-from networks.model import Network
+from clearance.networks.model import Network
 
 __all__ = ["OVERLAP_M2", "PIECE_M", "STOREY_M", "Stacking", "densified", "densify",
            "met_pieces", "stacking"]

@@ -8,11 +8,12 @@ import pkgutil
 
 import pytest
 
-PACKAGES = ("vehicles", "analysis", "networks", "reports")
+PACKAGES = ("clearance.vehicles", "clearance.analysis", "clearance.networks",
+            "clearance.reports")
 
 
 def modules() -> list[str]:
-    names = []
+    names = ["clearance"]
     for pkg in PACKAGES:
         module = importlib.import_module(pkg)
         for info in pkgutil.walk_packages(module.__path__, prefix=f"{pkg}."):
@@ -29,10 +30,18 @@ def test_docstring_examples(name: str) -> None:
 
 
 def test_the_geometry_modules_have_examples() -> None:
-    for name in ("vehicles.steering", "vehicles.lock", "analysis.turning",
-                 "analysis.control_law", "analysis.kinematics", "analysis.polyline",
-                 "analysis.envelope", "analysis.clearance", "analysis.levels", "networks.geometry",
-                 "reports.analytic", "reports.templates"):
+    for name in ("clearance.vehicles.steering",
+                 "clearance.vehicles.lock",
+                 "clearance.analysis.turning",
+                 "clearance.analysis.control_law",
+                 "clearance.analysis.kinematics",
+                 "clearance.analysis.polyline",
+                 "clearance.analysis.envelope",
+                 "clearance.analysis.clearance",
+                 "clearance.analysis.levels",
+                 "clearance.networks.geometry",
+                 "clearance.networks.driving.analytic",
+                 "clearance.reports.documents.templates"):
         finder = doctest.DocTestFinder()
         tests = finder.find(importlib.import_module(name))
         assert sum(len(t.examples) for t in tests) > 0, name

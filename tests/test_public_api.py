@@ -15,7 +15,8 @@ from pathlib import Path
 
 import pytest
 
-PACKAGES = ("vehicles", "analysis", "networks", "reports")
+PACKAGES = ("clearance.vehicles", "clearance.analysis", "clearance.networks",
+            "clearance.reports")
 ROOT = Path(__file__).resolve().parents[1]
 
 
@@ -26,7 +27,7 @@ def public_modules() -> list[str]:
         for info in pkgutil.walk_packages(package.__path__, prefix=f"{pkg}."):
             if not info.ispkg and not any(p.startswith("_") for p in info.name.split(".")):
                 names.append(info.name)
-    return sorted(names)
+    return sorted(names) + ["clearance"]
 
 
 @functools.cache
@@ -35,8 +36,10 @@ def project_imports() -> dict[str, dict[str, list[str]]]:
     the files): ``from module import name``."""
     found: dict[str, dict[str, list[str]]] = {}
     for pkg in PACKAGES:
-        for path in sorted((ROOT / pkg).rglob("*.py")):
+        for path in sorted((ROOT / pkg.removeprefix("clearance.")).rglob("*.py")):
             tree = ast.parse(path.read_text(encoding="utf-8"), str(path))
+            if path.name == "__init__.py" and path.parent == ROOT:
+                continue
             for node in ast.walk(tree):
                 if isinstance(node, ast.ImportFrom) and node.level == 0 and node.module:
                     for alias in node.names:
@@ -52,7 +55,8 @@ MODULES = public_modules()
 
 def test_the_packages_have_public_modules() -> None:
     # the walk finds the modules: a broken walk would pass every test below vacuously
-    assert {"vehicles.vehicle", "analysis.tracking", "networks.reader", "reports.cli"} <= set(
+    assert {"clearance.vehicles.vehicle", "clearance.analysis.tracking",
+            "clearance.networks.reader", "clearance.reports.cli.main"} <= set(
         MODULES)
     assert len(MODULES) > 50
 
@@ -78,3 +82,18 @@ def test_all_covers_what_the_project_imports(name: str) -> None:
     absent = {n: files for n, files in project_imports().get(name, {}).items() if n not in exported}
     assert not absent, f"{name}: imported from it but not in its __all__: {absent}"
 
+
+
+def test_import_clearance_gives_the_public_api_lazily() -> None:
+    import subprocess
+    import sys
+
+    code = ("import sys, clearance; heavy = [m for m in ('pandas', 'shapely', 'libsumo') "
+            "if m in sys.modules]; print(heavy); "
+            "t = clearance.load_tables(clearance.bundled_table_paths()); "
+            "print(len(t.vehicles()) > 10, clearance.run_study.__module__, "
+            "issubclass(clearance.NetworkError, clearance.InputError))")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                         check=True).stdout.split("\n")
+    assert out[0] == "[]"  # nothing heavy until a name is used
+    assert out[1] == "True clearance.reports.study.run True"

@@ -10,7 +10,7 @@ import stat
 from pathlib import Path
 from typing import BinaryIO
 
-from vehicles.errors import InputError
+from clearance.vehicles.errors import InputError
 
 __all__ = ["env_limit", "open_regular"]
 
@@ -48,21 +48,21 @@ def open_regular(path: str | os.PathLike[str], what: str = "file") -> BinaryIO:
     >>> open_regular("/dev/null")
     Traceback (most recent call last):
     ...
-    vehicles.errors.InputError: /dev/null: is a character device, not a regular file
+    clearance.vehicles.errors.InputError: /dev/null: is a character device, not a regular file
     """
     p = Path(path)
     try:
         fd = os.open(p, os.O_RDONLY | os.O_NONBLOCK | getattr(os, "O_CLOEXEC", 0))
     except FileNotFoundError:
-        raise InputError(f"{p}: no such {what}") from None
+        raise InputError(f"{p}: no such {what}", file=p) from None
     except IsADirectoryError:
-        raise InputError(f"{p}: is a directory, not a regular file") from None
+        raise InputError(f"{p}: is a directory, not a regular file", file=p) from None
     except OSError as exc:
-        raise InputError(f"{p}: cannot be read ({exc.strerror})") from None
+        raise InputError(f"{p}: cannot be read ({exc.strerror})", file=p) from None
     try:
         mode = os.fstat(fd).st_mode
         if not stat.S_ISREG(mode):
-            raise InputError(f"{p}: is {_kind(mode)}, not a regular file")
+            raise InputError(f"{p}: is {_kind(mode)}, not a regular file", file=p)
         os.set_blocking(fd, True)
         return os.fdopen(fd, "rb")
     except BaseException:

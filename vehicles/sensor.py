@@ -14,7 +14,7 @@ from collections.abc import Iterable
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from vehicles.errors import InputError
+from clearance.vehicles.errors import InputError
 
 __all__ = ["SteeringSensor"]
 

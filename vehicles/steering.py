@@ -29,7 +29,7 @@ from typing import NamedTuple
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from vehicles.errors import InputError
+from clearance.vehicles.errors import InputError
 
 __all__ = ["Breakpoints", "RackPinion", "Schedule", "Steering", "WheelAngles", "ackermann_angles",
            "angle_from_curvature", "bicycle_from_inner", "curvature_from_angle",

@@ -1,7 +1,8 @@
 """Loading and validating vehicle tables.
 
 :func:`load_tables` reads one or several CSV tables, checks every row and reports every
-problem at once (file, line, column, value, reason) as a :class:`~vehicles.errors.TableError`.
+problem at once (file, line, column, value, reason) as a
+:class:`~clearance.vehicles.errors.TableError`.
 The result is a :class:`VehicleTable`: a pandas DataFrame in SI units (lengths in metres,
 angles in radians) with the steering lock resolved, plus the warnings found.
 
@@ -31,19 +32,19 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from vehicles.derive import LOCK_TOLERANCE, derive
-from vehicles.errors import InputError, LimitError, TableError
-from vehicles.files import env_limit, open_regular
-from vehicles.schema import (
+from clearance.vehicles.derive import LOCK_TOLERANCE, derive
+from clearance.vehicles.errors import InputError, LimitError, OptionError, TableError
+from clearance.vehicles.files import env_limit, open_regular
+from clearance.vehicles.schema import (
     ALL_COLUMNS,
     REQUIRED,
     UNITS_TO_M,
     Column,
     default_vclass,
 )
-from vehicles.steering import Breakpoints, RackPinion, Schedule, Steering
-from vehicles.underside import underside_from
-from vehicles.vehicle import Trailer, Vehicle
+from clearance.vehicles.steering import Breakpoints, RackPinion, Schedule, Steering
+from clearance.vehicles.underside import underside_from
+from clearance.vehicles.vehicle import Trailer, Vehicle
 
 __all__ = ["DEFAULT_MAX_TABLE_BYTES", "DEFAULT_MAX_VEHICLES", "LOCK_TOLERANCE",
            "MAX_TABLE_MB_ENV", "MAX_VEHICLES_ENV", "VehicleTable", "max_vehicles",
@@ -100,27 +101,27 @@ class VehicleTable:
         return list(self.frame["name"])
 
     def vehicle(self, name: str) -> Vehicle:
-        """The :class:`~vehicles.vehicle.Vehicle` called ``name``."""
+        """The :class:`~clearance.vehicles.vehicle.Vehicle` called ``name``."""
         rows = self.frame.index[self.frame["name"] == name]
         if len(rows) == 0:
-            raise InputError(unknown_name_message(name, self.names))
+            raise OptionError(unknown_name_message(name, self.names))
         return vehicle_from_row(self.frame.loc[rows[0]])
 
     def vehicles(self) -> list[Vehicle]:
-        """Every row as a :class:`~vehicles.vehicle.Vehicle`, in table order."""
+        """Every row as a :class:`~clearance.vehicles.vehicle.Vehicle`, in table order."""
         return [vehicle_from_row(row) for _, row in self.frame.iterrows()]
 
     def steering(self, name: str) -> Steering:
         """The steering mechanism of the vehicle called ``name``."""
         rows = self.frame.index[self.frame["name"] == name]
         if len(rows) == 0:
-            raise InputError(unknown_name_message(name, self.names))
+            raise OptionError(unknown_name_message(name, self.names))
         return steering_from_row(self.frame.loc[rows[0]])
 
 
 def bundled_table_paths() -> list[Path]:
     """The CSV tables shipped with the package, sorted by file name."""
-    folder = resources.files("vehicles") / "tables"
+    folder = resources.files("clearance.vehicles") / "tables"
     return sorted(Path(str(p)) for p in folder.iterdir() if p.name.endswith(".csv"))
 
 
@@ -135,7 +136,7 @@ def bundled_table(stem: str) -> Path:
     for path in bundled_table_paths():
         if path.stem == stem:
             return path
-    raise InputError(f"no bundled vehicle table {stem!r}; there are "
+    raise OptionError(f"no bundled vehicle table {stem!r}; there are "
                      f"{', '.join(p.stem for p in bundled_table_paths())}")
 
 
@@ -210,7 +211,7 @@ def load_tables(
     if names:
         missing = [n for n in names if n not in seen]
         if missing:
-            raise InputError("; ".join(unknown_name_message(n, list(seen)) for n in missing))
+            raise OptionError("; ".join(unknown_name_message(n, list(seen)) for n in missing))
         frame = frame.set_index("name", drop=False).loc[list(names)].reset_index(drop=True)
         kept = [f"{t}:{n}" for t, n in zip(frame["table"], frame["line"], strict=True)]
         warnings = [w for w in warnings if any(w.startswith((f"{k} ", f"{k}:")) for k in kept)]
@@ -256,7 +257,8 @@ def read_table_text(path: Path) -> str:
         try:
             data = fh.read(limit + 1)
         except OSError as exc:
-            raise InputError(f"{path}: cannot read vehicle table: {exc.strerror}") from None
+            raise TableError(f"{path}: cannot read vehicle table: {exc.strerror}",
+                             file=path) from None
     if len(data) > limit:
         raise LimitError(f"{path}: refused: the vehicle table is larger than {limit / 1e6:g} "
                          f"MB; to read it anyway, set the environment variable "
@@ -265,24 +267,24 @@ def read_table_text(path: Path) -> str:
         return data.decode("utf-8-sig")
     except UnicodeDecodeError as exc:
         line = data[: exc.start].count(b"\n") + 1
-        raise InputError(f"{path}:{line}: not UTF-8 text (byte {exc.start}: "
-                         f"{data[exc.start:exc.start + 1]!r})") from None
+        raise TableError(f"{path}:{line}: not UTF-8 text (byte {exc.start}: "
+                         f"{data[exc.start:exc.start + 1]!r})", file=path) from None
 
 
 def _read_file(path: Path, problems: list[str], warnings: list[str]) -> list[dict[str, object]]:
     text = read_table_text(path)
     if "\0" in text:
-        raise InputError(f"{path}:{text[: text.index(chr(0))].count(chr(10)) + 1}: a NUL "
-                         "character: not a CSV text file")
+        raise TableError(f"{path}:{text[: text.index(chr(0))].count(chr(10)) + 1}: a NUL "
+                         "character: not a CSV text file", file=path)
     # newline="": quoted line breaks stay inside their cell, and only \r and \n end a line
     # (str.splitlines also breaks at U+2028 and the like, inside cells too)
     reader = csv.reader(io.StringIO(text, newline=""))
     try:
         header = [h.strip() for h in next(reader)]
     except StopIteration:
-        raise InputError(f"{path}: empty file, expected a CSV header") from None
+        raise TableError(f"{path}: empty file, expected a CSV header", file=path) from None
     except csv.Error as exc:
-        raise InputError(f"{path}: not a CSV table: {exc}") from None
+        raise TableError(f"{path}: not a CSV table: {exc}", file=path) from None
     bad_header = False
     for col in REQUIRED:
         if col.name not in header:
@@ -462,7 +464,7 @@ def _schedule_value(value: object) -> Schedule:
 
 
 def steering_from_row(row: pd.Series) -> Steering:
-    """The :class:`~vehicles.steering.Steering` of one row of a loaded table."""
+    """The :class:`~clearance.vehicles.steering.Steering` of one row of a loaded table."""
     rack = None
     if row["steering"] == "rack_pinion":
         rack = RackPinion(row["track_m"], row["rack_length_m"], row["steering_arm_m"],
@@ -473,7 +475,7 @@ def steering_from_row(row: pd.Series) -> Steering:
 
 
 def vehicle_from_row(row: pd.Series) -> Vehicle:
-    """A :class:`~vehicles.vehicle.Vehicle` from one row of a loaded table."""
+    """A :class:`~clearance.vehicles.vehicle.Vehicle` from one row of a loaded table."""
     trailer = None
     if np.isfinite(row.get("trailer_wheelbase_m", np.nan)):
         trailer = Trailer(row["hitch_offset_m"], row["trailer_wheelbase_m"],

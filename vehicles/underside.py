@@ -1,6 +1,6 @@
 """A vehicle's underside in side view: ground clearance and the three ramp angles.
 
-The vertical checks (:mod:`analysis.vertical`) need, per vehicle, how high its body sits
+The vertical checks (:mod:`clearance.analysis.vertical`) need, per vehicle, how high its body sits
 above the chord between the tyre contacts of its axles:
 
 - between the axles, the **breakover** height ``(l / 2) tan(beta / 2)`` (the two lines from

@@ -1,6 +1,6 @@
 """One vehicle's geometry in SI units, as the kinematics and the simulation use it.
 
-The table loader (:mod:`vehicles.table`) turns each validated row into a :class:`Vehicle`;
+The table loader (:mod:`clearance.vehicles.table`) turns each validated row into a :class:`Vehicle`;
 tests and scripts may also build one directly.
 """
 
@@ -9,7 +9,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 
-from vehicles.underside import Underside, underside_from
+from clearance.vehicles.underside import Underside, underside_from
 
 __all__ = ["Trailer", "Vehicle"]
 
@@ -83,9 +83,9 @@ class Vehicle:
     vclass
         SUMO vehicle class: which lanes admit it (``allow``/``disallow``).
     underside
-        Ground clearance and ramp angles (:class:`~vehicles.underside.Underside`), or
+        Ground clearance and ramp angles (:class:`~clearance.vehicles.underside.Underside`), or
         ``None``: the vertical checks then take the class default
-        (:func:`vehicles.underside.underside_from` with nothing given).
+        (:func:`clearance.vehicles.underside.underside_from` with nothing given).
     grade_limit_pct
         The steepest grade the vehicle is to climb (percent), or ``None``: no limit of its own.
     """

@@ -2,9 +2,9 @@
 
 One command rebuilds every sample (``.net.xml``) and its plan figure (``.png``)::
 
-    python -m networks.samples.build            # all samples, in place
-    python -m networks.samples.build --out DIR  # into DIR/<name>/ instead
-    python -m networks.samples.build roundabout --no-figures
+    python -m clearance.networks.samples.build            # all samples, in place
+    python -m clearance.networks.samples.build --out DIR  # into DIR/<name>/ instead
+    python -m clearance.networks.samples.build roundabout --no-figures
 
 The netconvert options of each sample are in :data:`OPTIONS`; coordinates are kept as
 designed (``--offset.disable-normalization``).
@@ -16,10 +16,10 @@ import argparse
 import sys
 from pathlib import Path
 
-from networks.sumo.tools import run_sumo_tool
+from clearance.networks.sumo.tools import run_sumo_tool
 
 __all__ = ["COMMON_OPTIONS", "OPTIONS", "SAMPLES", "SAMPLES_DIR", "VIEWS", "build", "main",
-           "sources"]
+           "sample_networks", "sources"]
 
 SAMPLES_DIR = Path(__file__).resolve().parent
 SAMPLES = ("intersection", "roundabout", "parking_ramp", "helix", "garage")
@@ -60,6 +60,11 @@ OPTIONS: dict[str, tuple[str, ...]] = {
 }
 
 
+def sample_networks() -> list[Path]:
+    """The bundled sample networks."""
+    return [SAMPLES_DIR / n / f"{n}.net.xml" for n in SAMPLES]
+
+
 def sources(name: str, directory: Path = SAMPLES_DIR) -> list[str]:
     """netconvert input arguments for the plain-XML sources of sample ``name``."""
     base = directory / name / name
@@ -84,7 +89,8 @@ def build(name: str, out_dir: Path | None = None) -> Path:
 
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(
-        prog="python -m networks.samples.build", description=(__doc__ or "").split("\n")[0]
+        prog="python -m clearance.networks.samples.build",
+        description=(__doc__ or "").split("\n")[0],
     )
     parser.add_argument("names", nargs="*", default=list(SAMPLES), help="samples to build")
     parser.add_argument("--out", type=Path, help="build into this directory instead")
@@ -94,7 +100,7 @@ def main(argv: list[str] | None = None) -> int:
         net_path = build(name, args.out)
         print(f"built {net_path}")
         if not args.no_figures:
-            from networks.plot import save_plan
+            from clearance.networks.plot import save_plan
 
             png = save_plan(net_path, net_path.with_suffix("").with_suffix(".png"), VIEWS[name])
             print(f"drew {png}")

@@ -1,9 +1,9 @@
 """Write the plain-XML sources of the sample networks from their design parameters.
 
 The sources (``*.nod.xml``, ``*.edg.xml``, ``*.con.xml``) are committed; run this only to
-change a design, then rebuild with ``python -m networks.samples.build``::
+change a design, then rebuild with ``python -m clearance.networks.samples.build``::
 
-    python -m networks.samples.sources   # rewrites networks/samples/*/*.{nod,edg,con}.xml
+    python -m clearance.networks.samples.sources   # rewrites networks/samples/*/*.{nod,edg,con}.xml
 
 Coordinates are metres, x east, y north; netconvert keeps them (no offset normalisation).
 """
@@ -296,6 +296,49 @@ def _reverse_curve(rc: float, lane_off: float, radius: float) -> tuple[float, fl
 
 def ring(design: RingDesign) -> tuple[list[str], list[str], list[str]]:
     """Nodes, edges (with the ``<roundabout>`` element) and connections of one roundabout."""
+    layout = _ring_layout(design)
+    nodes: list[str] = []
+    edges: list[str] = []
+    cons: list[str] = []
+    for k, ang in enumerate(_RING_ANGLES):
+        nid = f"{design.rid}{k}"
+        nodes += _arm_nodes(design, layout, nid, ang)
+        edges += _arm_edges(design, nid)
+        cons += _arm_connections(design, layout, k, ang)
+    edges += _ring_edges(design, layout.r_mid)
+    return nodes, edges, cons
+
+
+#: Directions (deg) of a roundabout's arms, counter-clockwise from east.
+_RING_ANGLES = (0, 90, 180, 270)
+
+
+@dataclass(frozen=True)
+class _RingLayout:
+    """Radii and cuts of a roundabout (m, deg; local frame: an arm along +x, centre at 0).
+
+    ``outer`` is the inscribed radius, ``inner`` the paved ring's inner edge (apron
+    included), ``r_mid`` its centre line, ``rc`` the ring lane's centre line, ``off`` an arm
+    lane's centre from the arm's axis; ``x_in``/``phi_in`` and ``x_out``/``phi_out`` are the
+    entry's and exit's tangent points (:func:`_reverse_curve`); the ring is cut ``beta``
+    either side of an arm, the arms at ``x = x_arm``.
+    """
+
+    outer: float
+    inner: float
+    r_mid: float
+    rc: float
+    off: float
+    x_in: float
+    phi_in: float
+    x_out: float
+    phi_out: float
+    beta: float
+    x_arm: float
+
+
+def _ring_layout(design: RingDesign) -> _RingLayout:
+    """The radii and cuts of ``design``."""
     outer = design.inscribed_diameter_m / 2
     width = design.ring_lane_m + design.apron_m
     inner = outer - width
@@ -306,64 +349,87 @@ def ring(design: RingDesign) -> tuple[list[str], list[str], list[str]]:
     x_out, phi_out = _reverse_curve(rc, off, design.exit_radius_m)
     beta = max(phi_in, phi_out) + 2.0  # where the ring lanes are cut, either side of an arm
     x_arm = max(x_in, x_out) + 2.0  # where the arms are cut
-    nodes, edges, cons, ring_ids = [], [], [], []
+    return _RingLayout(outer, inner, r_mid, rc, off, x_in, phi_in, x_out, phi_out, beta, x_arm)
 
-    def place(points: Iterable[Point], ang: float) -> list[Point]:
-        c, s_ = math.cos(math.radians(ang)), math.sin(math.radians(ang))
-        return [(design.cx + x * c - y * s_, design.cy + x * s_ + y * c) for x, y in points]
 
-    angles = (0, 90, 180, 270)
-    for k, ang in enumerate(angles):
-        nid = f"{design.rid}{k}"
-        b = math.radians(beta)
-        poly = arc((0, 0), inner, -beta, beta, 3.0)
-        half = 2 * off + design.shoulder_m  # half the arm's paved width
-        poly += [(outer * math.cos(b), outer * math.sin(b)), (x_arm, half), (x_arm, -half)]
-        poly += [(outer * math.cos(b), -outer * math.sin(b))]
-        ((x, y),) = place([(r_mid, 0.0)], ang)
-        nodes.append(
-            f'<node id="{nid}" x="{x:.3f}" y="{y:.3f}" type="priority" '
-            f'shape="{fmt(place(poly, ang))}"/>'
+def _place(design: RingDesign, points: Iterable[Point], ang: float) -> list[Point]:
+    """Local points turned by ``ang`` (deg) and moved to the roundabout's centre."""
+    c, s_ = math.cos(math.radians(ang)), math.sin(math.radians(ang))
+    return [(design.cx + x * c - y * s_, design.cy + x * s_ + y * c) for x, y in points]
+
+
+def _arm_nodes(design: RingDesign, layout: _RingLayout, nid: str, ang: float) -> list[str]:
+    """The ring junction ``nid`` where the arm at ``ang`` (deg) meets, and the arm's end."""
+    outer, off, beta, x_arm = layout.outer, layout.off, layout.beta, layout.x_arm
+    b = math.radians(beta)
+    poly = arc((0, 0), layout.inner, -beta, beta, 3.0)
+    half = 2 * off + design.shoulder_m  # half the arm's paved width
+    poly += [(outer * math.cos(b), outer * math.sin(b)), (x_arm, half), (x_arm, -half)]
+    poly += [(outer * math.cos(b), -outer * math.sin(b))]
+    ((x, y),) = _place(design, [(layout.r_mid, 0.0)], ang)
+    ((ax, ay),) = _place(design, [(outer + design.arm_m, 0.0)], ang)
+    return [
+        f'<node id="{nid}" x="{x:.3f}" y="{y:.3f}" type="priority" '
+        f'shape="{fmt(_place(design, poly, ang))}"/>',
+        f'<node id="{nid}a" x="{ax:.3f}" y="{ay:.3f}"/>',
+    ]
+
+
+def _arm_edges(design: RingDesign, nid: str) -> list[str]:
+    """The two edges of the arm of junction ``nid`` (with a shoulder lane if designed)."""
+    if design.shoulder_m:
+        attrs = 'numLanes="2" speed="13.89" priority="1"'
+        lanes = (
+            f'<lane index="0" width="{design.shoulder_m}" allow="custom1"/>'
+            f'<lane index="1" width="{design.arm_lane_m}"/>'
         )
-        ((ax, ay),) = place([(outer + design.arm_m, 0.0)], ang)
-        nodes.append(f'<node id="{nid}a" x="{ax:.3f}" y="{ay:.3f}"/>')
-        if design.shoulder_m:
-            attrs = 'numLanes="2" speed="13.89" priority="1"'
-            lanes = (
-                f'<lane index="0" width="{design.shoulder_m}" allow="custom1"/>'
-                f'<lane index="1" width="{design.arm_lane_m}"/>'
-            )
-        else:
-            attrs = f'numLanes="1" width="{design.arm_lane_m}" speed="13.89" priority="1"'
-            lanes = ""
-        edges.append(f'<edge id="{nid}_in" from="{nid}a" to="{nid}" {attrs}>{lanes}</edge>')
-        edges.append(f'<edge id="{nid}_out" from="{nid}" to="{nid}a" {attrs}>{lanes}</edge>')
-        arm_lane = 1 if design.shoulder_m else 0
-        ring_in = f"{design.rid}ring{(k - 1) % 4}"
-        ring_out = f"{design.rid}ring{k}"
-        # entry: along the arm's lane, a right-hand arc onto the ring, round to the cut
-        e_centre = (x_in, off + design.entry_radius_m)
-        entry: list[Point] = [(x_arm, off), (x_in, off)]
-        entry += arc(e_centre, design.entry_radius_m, -90, -90 - (90 - phi_in))[1:]
-        entry += arc((0, 0), rc, phi_in, beta)[1:]
-        # exit: round the ring from the cut, a right-hand arc onto the arm's lane
-        x_centre = (x_out, -off - design.exit_radius_m)
-        exit_ = arc((0, 0), rc, -beta, -phi_out)
-        exit_ += arc(x_centre, design.exit_radius_m, 90 + (90 - phi_out), 90)[1:]
-        exit_ += [(x_arm, -off)]
-        through = arc((0, 0), rc, -beta, beta)
+    else:
+        attrs = f'numLanes="1" width="{design.arm_lane_m}" speed="13.89" priority="1"'
+        lanes = ""
+    return [
+        f'<edge id="{nid}_in" from="{nid}a" to="{nid}" {attrs}>{lanes}</edge>',
+        f'<edge id="{nid}_out" from="{nid}" to="{nid}a" {attrs}>{lanes}</edge>',
+    ]
+
+
+def _arm_connections(design: RingDesign, layout: _RingLayout, k: int, ang: float
+                     ) -> list[str]:
+    """Entry, exit and through connections (and the apron's) at the ``k``-th junction."""
+    rc, off, beta, x_arm = layout.rc, layout.off, layout.beta, layout.x_arm
+    nid = f"{design.rid}{k}"
+    arm_lane = 1 if design.shoulder_m else 0
+    ring_in = f"{design.rid}ring{(k - 1) % 4}"
+    ring_out = f"{design.rid}ring{k}"
+    # entry: along the arm's lane, a right-hand arc onto the ring, round to the cut
+    e_centre = (layout.x_in, off + design.entry_radius_m)
+    entry: list[Point] = [(x_arm, off), (layout.x_in, off)]
+    entry += arc(e_centre, design.entry_radius_m, -90, -90 - (90 - layout.phi_in))[1:]
+    entry += arc((0, 0), rc, layout.phi_in, beta)[1:]
+    # exit: round the ring from the cut, a right-hand arc onto the arm's lane
+    x_centre = (layout.x_out, -off - design.exit_radius_m)
+    exit_ = arc((0, 0), rc, -beta, -layout.phi_out)
+    exit_ += arc(x_centre, design.exit_radius_m, 90 + (90 - layout.phi_out), 90)[1:]
+    exit_ += [(x_arm, -off)]
+    through = arc((0, 0), rc, -beta, beta)
+    cons = [
+        f'<connection from="{frm}" to="{to}" fromLane="{lane_from}" toLane="{lane_to}" '
+        f'shape="{fmt(_place(design, pts, ang))}"/>'
         for frm, to, lane_from, lane_to, pts in (
             (f"{nid}_in", ring_out, arm_lane, 0, entry),
             (ring_in, f"{nid}_out", 0, arm_lane, exit_),
             (ring_in, ring_out, 0, 0, through),
-        ):
-            cons.append(
-                f'<connection from="{frm}" to="{to}" fromLane="{lane_from}" toLane="{lane_to}" '
-                f'shape="{fmt(place(pts, ang))}"/>'
-            )
-        if design.apron_m:
-            cons.append(f'<connection from="{ring_in}" to="{ring_out}" fromLane="1" toLane="1"/>')
-    for k, ang in enumerate(angles):
+        )
+    ]
+    if design.apron_m:
+        cons.append(f'<connection from="{ring_in}" to="{ring_out}" fromLane="1" toLane="1"/>')
+    return cons
+
+
+def _ring_edges(design: RingDesign, r_mid: float) -> list[str]:
+    """The four ring edges (centre line at ``r_mid``) and the ``<roundabout>`` element."""
+    edges: list[str] = []
+    ring_ids: list[str] = []
+    for k, ang in enumerate(_RING_ANGLES):
         eid = f"{design.rid}ring{k}"
         ring_ids.append(eid)
         pts = arc((design.cx, design.cy), r_mid, ang, ang + 90, 3.0)
@@ -377,7 +443,7 @@ def ring(design: RingDesign) -> tuple[list[str], list[str], list[str]]:
         )
     ring_nodes = " ".join(f"{design.rid}{k}" for k in range(4))
     edges.append(f'<roundabout nodes="{ring_nodes}" edges="{" ".join(ring_ids)}"/>')
-    return nodes, edges, cons
+    return edges
 
 
 def write_roundabout(directory: Path) -> None:

@@ -2,14 +2,14 @@
 
 The README's tables come from this script::
 
-    python -m networks.samples.verdicts            # Markdown tables on stdout
+    python -m clearance.networks.samples.verdicts            # Markdown tables on stdout
 
 Vehicles: the AASHTO design vehicles P, SU-30, CITY-BUS and WB-62 (bundled table
 ``aashto_green_book``) and a large van (the 2008 Chrysler Town & Country of
 ``paper_table1``). Each drives lane-keeping along the curve's (smoothed) centre line at
 crawl speed with the kinematic model, exactly as ``clearance report`` drives it
-(:func:`networks.sumo.driver.drive`, here without SUMO, which only replays the model); its swept
-envelope is measured against the curve's own lanes, roadway and paved area, with no
+(:func:`clearance.networks.driving.drive.drive`, here without SUMO, which only replays the model);
+its swept envelope is measured against the curve's own lanes, roadway and paved area, with no
 clearance offset.
 """
 
@@ -17,11 +17,11 @@ from __future__ import annotations
 
 import sys
 
-from networks.curves import Curve, extract_curves
-from networks.reader import read_network
-from networks.samples.build import SAMPLES, SAMPLES_DIR
-from networks.sumo.driver import DriveOptions, drive
-from vehicles.table import bundled_table, load_tables
+from clearance.networks.curves import Curve, extract_curves
+from clearance.networks.driving.drive import DriveOptions, drive
+from clearance.networks.reader import read_network
+from clearance.networks.samples.build import SAMPLES, SAMPLES_DIR
+from clearance.vehicles.table import bundled_table, load_tables
 
 __all__ = ["SHORT", "VEHICLES", "curves_of", "main", "table"]
 

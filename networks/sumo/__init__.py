@@ -1,3 +1,8 @@
-"""SUMO itself: the libsumo driver that replays the model's runs (:mod:`.driver`), what a
-drive is asked and returns (:mod:`.runs`), the libsumo-free placement helpers
-(:mod:`.placement`) and the wheel's SUMO binaries (:mod:`.tools`)."""
+"""SUMO itself: the only subpackage that imports libsumo or runs SUMO's programs.
+
+- ``tools``: finding and running the programs the eclipse-sumo package ships.
+- ``load_check``: does SUMO load this network? (``sumo -n NET``, once per file).
+- ``placement``: what SUMO is told about a run (vTypes, routes, lane hints, replay), free of
+  libsumo.
+- ``session``: the libsumo session a drive places its vehicles in.
+"""

@@ -2,7 +2,7 @@
 
 The tool reads exactly the networks SUMO loads (docs/design.md §7): what ``sumo -n NET``
 refuses is bad input, named in SUMO's own words; what it loads is read, the elements no
-vehicle can be judged on left out with a note (:mod:`networks.integrity`). The check runs
+vehicle can be judged on left out with a note (:mod:`clearance.networks.integrity`). The check runs
 ``sumo`` of the ``eclipse-sumo`` package in a process of its own
 (:class:`SumoLoadCheck`), beside the reader, so that it costs no time where two cores are
 free, and a SUMO that crashes on a file costs only that process. The answer is kept per
@@ -23,7 +23,7 @@ import subprocess
 import tempfile
 from pathlib import Path
 
-from networks.sumo.tools import find_sumo_binary, sumo_home
+from clearance.networks.sumo.tools import find_sumo_binary, sumo_home
 
 __all__ = ["LOAD_TIMEOUT_S", "SumoLoadCheck", "refusal_message"]
 

@@ -1,8 +1,8 @@
 """What SUMO is told about a run: vTypes, routes, lane hints, placements, replay.
 
-Helpers of :mod:`networks.sumo.driver`, free of libsumo: a vehicle's vType parameters and shape
-class, the edges and lanes of a curve, where each lane ends along a centre line, the points
-SUMO places (front-bumper centre of the towing unit, front of the trailer), and the SUMO
+Helpers of :mod:`clearance.networks.driving.drive`, free of libsumo: a vehicle's vType parameters
+and shape class, the edges and lanes of a curve, where each lane ends along a centre line, the
+points SUMO places (front-bumper centre of the towing unit, front of the trailer), and the SUMO
 configuration that replays FCD output in sumo-gui.
 """
 
@@ -10,20 +10,23 @@ from __future__ import annotations
 
 import math
 import os
+import shlex
+import sys
 from collections.abc import Sequence
 
 import numpy as np
 import shapely
 
-from analysis.polyline import Path
-from analysis.tracking import TrackingRun
-from networks.curves import Curve
-from vehicles.errors import InputError
-from vehicles.vehicle import Vehicle
+from clearance.analysis.polyline import Path
+from clearance.analysis.tracking import TrackingRun
+from clearance.networks.curves import Curve
+from clearance.networks.sumo.tools import sumo_home
+from clearance.vehicles.errors import GeometryError
+from clearance.vehicles.vehicle import Vehicle
 
-__all__ = ["REPLAY_COMMAND", "edge_of_lane", "first_on", "front_bumper", "lane_boundaries_m",
-           "lane_index", "replay_config", "route_edges", "shape_class", "trailer_front",
-           "vtype_parameters"]
+__all__ = ["replay_command", "replay_script", "REPLAY_COMMAND", "edge_of_lane", "first_on",
+           "front_bumper", "lane_boundaries_m", "lane_index", "replay_config",
+           "route_edges", "shape_class", "trailer_front", "vtype_parameters"]
 
 REPLAY_COMMAND = 'python "$SUMO_HOME/tools/fcdReplay.py" -k {config} -f {fcd}'
 """How to replay an FCD file in sumo-gui (format with the config and FCD paths)."""
@@ -35,8 +38,7 @@ def replay_config(net_path: str | os.PathLike[str], dt_s: float) -> str:
     Examples
     --------
     >>> print(replay_config("x.net.xml", 0.1))  # doctest: +NORMALIZE_WHITESPACE
-    <?xml version="1.0" encoding="UTF-8"?>
-    <configuration>
+    <?xml version="1.0" encoding="UTF-8"?> <configuration>
         <input><net-file value="x.net.xml"/></input>
         <time><step-length value="0.1"/></time>
     </configuration>
@@ -58,7 +60,7 @@ def edge_of_lane(lane_id: str) -> str:
     """
     edge, sep, index = lane_id.rpartition("_")
     if not sep or not index.isdigit():
-        raise InputError(f"lane id {lane_id!r} does not end in _<index>")
+        raise ValueError(f"lane id {lane_id!r} does not end in _<index>")
     return edge
 
 
@@ -82,7 +84,7 @@ def route_edges(curve: Curve) -> list[str]:
         if not e.startswith(":") and (not edges or edges[-1] != e):
             edges.append(e)
     if not edges:
-        raise InputError(f"curve {curve.curve_id}: no normal edge to route a vehicle on")
+        raise GeometryError(f"curve {curve.curve_id}: no normal edge to route a vehicle on")
     return edges
 
 
@@ -187,3 +189,29 @@ def trailer_front(run: TrackingRun) -> tuple[np.ndarray, np.ndarray, np.ndarray]
     reach = t.wheelbase_m + t.front_overhang_m
     return (tr.xt_m + reach * np.cos(tr.theta_t_rad), tr.yt_m + reach * np.sin(tr.theta_t_rad),
             tr.theta_t_rad)
+
+
+def replay_command(config: str | os.PathLike[str], fcd: str | os.PathLike[str]) -> str:
+    """The shell command that replays ``fcd`` in sumo-gui with SUMO's ``fcdReplay.py``: it
+    sets ``SUMO_HOME`` to the installed eclipse-sumo package (a pip install sets none) and
+    runs the script with this Python, which has sumolib and traci.
+
+    >>> from pathlib import PurePath
+    >>> cmd = replay_command(PurePath("out/replay.sumocfg"), PurePath("out/fcd.xml"))
+    >>> cmd.startswith("SUMO_HOME=") and cmd.endswith("-k out/replay.sumocfg -f out/fcd.xml")
+    True
+    """
+    home = sumo_home()
+    return (f"SUMO_HOME={shlex.quote(str(home))} {shlex.quote(sys.executable)} "
+            f"{shlex.quote(str(home / 'tools' / 'fcdReplay.py'))} "
+            f"-k {shlex.quote(str(config))} -f {shlex.quote(str(fcd))}")
+
+
+def replay_script() -> str:
+    """``replay.sh``: the replay of :func:`replay_command`, from the folder it lies in."""
+    home = sumo_home()
+    return ("#!/bin/sh\n# Replays fcd.xml in sumo-gui (written by clearance simulate --fcd).\n"
+            'cd "$(dirname "$0")" || exit 1\n'
+            f"SUMO_HOME={shlex.quote(str(home))} exec {shlex.quote(sys.executable)} "
+            f"{shlex.quote(str(home / 'tools' / 'fcdReplay.py'))} "
+            '-k replay.sumocfg -f fcd.xml "$@"\n')

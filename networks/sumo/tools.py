@@ -8,7 +8,7 @@ import subprocess
 from collections.abc import Sequence
 from pathlib import Path
 
-from vehicles.errors import InputError
+from clearance.vehicles.errors import ClearanceError
 
 __all__ = ["NETCONVERT_TIMEOUT_S", "find_sumo_binary", "netconvert_plain", "run_sumo_tool",
            "sumo_home"]
@@ -63,7 +63,7 @@ def run_sumo_tool(name: str, args: Sequence[str], timeout_s: float = NETCONVERT_
         [str(exe), *args], capture_output=True, text=True, env=env, timeout=timeout_s, check=False
     )
     if proc.returncode != 0:
-        raise InputError(f"{name} failed ({proc.returncode}): {proc.stderr.strip()[-2000:]}")
+        raise ClearanceError(f"{name} failed ({proc.returncode}): {proc.stderr.strip()[-2000:]}")
 
 
 def netconvert_plain(

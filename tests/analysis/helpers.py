@@ -6,8 +6,8 @@ import math
 
 import numpy as np
 
-from analysis.polyline import Path, prepare_path
-from vehicles.vehicle import Trailer, Vehicle
+from clearance.analysis.polyline import Path, prepare_path
+from clearance.vehicles.vehicle import Trailer, Vehicle
 
 
 def turn(radius_m: float, angle_deg: float, lead_m: float = 15.0, tail_m: float = 15.0,

@@ -7,13 +7,12 @@ import pandas as pd
 import pytest
 import shapely
 
-from analysis.design_turn import design_turn_inside_radius
-from analysis.envelope import swept_path
-from analysis.tracking import TrackingSettings, simulate_batch
-from analysis.turning import full_lock_metrics
-from reports.templates import template_path
-from vehicles.errors import InputError
-from vehicles.table import bundled_table, load_tables
+from clearance.analysis.design_turn import design_turn_inside_radius
+from clearance.analysis.envelope import swept_path
+from clearance.analysis.tracking import TrackingSettings, simulate_batch
+from clearance.analysis.turning import full_lock_metrics
+from clearance.reports.documents.templates import template_path
+from clearance.vehicles.table import bundled_table, load_tables
 
 FT = 0.3048
 
@@ -116,11 +115,11 @@ def test_rows_are_independent_and_rear_steering_has_none():
 
 
 def test_bad_arguments_are_input_errors():
-    with pytest.raises(InputError, match="smaller than the wheelbase"):
+    with pytest.raises(ValueError, match="smaller than the wheelbase"):
         design_turn_inside_radius(car(), ctr_m=2.0)
-    with pytest.raises(InputError, match="angle_deg"):
+    with pytest.raises(ValueError, match="angle_deg"):
         design_turn_inside_radius(car(), angle_deg=0.0)
-    with pytest.raises(InputError, match="lacks min_radius_m"):
+    with pytest.raises(ValueError, match="lacks min_radius_m"):
         design_turn_inside_radius(car().drop(columns="min_radius_m"))
 
 

@@ -10,9 +10,9 @@ import pytest
 import shapely
 from shapely import affinity
 
-from analysis.envelope import body_corners, interval_hulls, key_samples, sweep, swept_path
-from analysis.kinematics import ramp_step
-from analysis.tracking import simulate, simulate_batch
+from clearance.analysis.envelope import body_corners, interval_hulls, key_samples, sweep, swept_path
+from clearance.analysis.kinematics import ramp_step
+from clearance.analysis.tracking import simulate, simulate_batch
 from tests.analysis.helpers import bus, car, semi, steady_rho, turn
 
 

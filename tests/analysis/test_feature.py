@@ -7,8 +7,8 @@ import math
 import numpy as np
 import pytest
 
-from analysis.feature import feature_mask, feature_reason, slice_run
-from analysis.tracking import simulate
+from clearance.analysis.feature import feature_mask, feature_reason, slice_run
+from clearance.analysis.tracking import simulate
 from tests.analysis.helpers import bus, car, semi, turn
 
 

@@ -6,8 +6,7 @@ import numpy as np
 import pytest
 import shapely
 
-from analysis.clearance import farthest_on_lines
-from analysis.kernels import (
+from clearance.analysis.kernels import (
     farthest_from_segments,
     greedy_keys,
     look_back_distance,
@@ -18,6 +17,7 @@ from analysis.kernels import (
     vertex_path_bounds,
     windowed_distance,
 )
+from clearance.analysis.margins import farthest_on_lines
 
 RNG = np.random.default_rng(7)
 

@@ -7,7 +7,7 @@ import math
 import numpy as np
 import pytest
 
-from analysis.kinematics import (
+from clearance.analysis.kinematics import (
     SpeedProfile,
     arc_step,
     as_speed_profile,
@@ -16,8 +16,7 @@ from analysis.kinematics import (
     ramp_arc,
     ramp_step,
 )
-from analysis.polyline import fit_circle
-from vehicles.errors import InputError
+from clearance.analysis.polyline import fit_circle
 
 
 def test_constant_lock_closes_circle_of_radius_l_over_tan_phi() -> None:
@@ -119,16 +118,16 @@ def test_speed_profile_by_station_and_time() -> None:
     ],
 )
 def test_speed_profile_rejects_bad_input(args: tuple) -> None:
-    with pytest.raises(InputError, match="speed profile"):
+    with pytest.raises(ValueError, match="speed profile"):
         SpeedProfile(*args)
 
 
 def test_bad_speed_and_step_raise_input_error() -> None:
-    with pytest.raises(InputError, match="speed"):
+    with pytest.raises(ValueError, match="speed"):
         as_speed_profile("fast")  # type: ignore[arg-type]
-    with pytest.raises(InputError, match="dt_s"):
+    with pytest.raises(ValueError, match="dt_s"):
         integrate(0, 0, 0, 1, 0, 2, 0.0, 3)
-    with pytest.raises(InputError, match="method"):
+    with pytest.raises(ValueError, match="method"):
         integrate(0, 0, 0, 1, 0, 2, 0.1, 3, method="rk4")  # type: ignore[arg-type]
 
 

@@ -8,8 +8,8 @@ import numpy as np
 import pytest
 import shapely
 
-from analysis.clearance import Areas, evaluate
-from analysis.levels import (
+from clearance.analysis.clearance import Areas, evaluate
+from clearance.analysis.levels import (
     CORRIDOR_OVERLAP_M,
     LEVEL_BAND_M,
     LEVEL_STEP_M,
@@ -21,9 +21,9 @@ from analysis.levels import (
     level_slots,
     path_segments,
 )
-from analysis.polyline import prepare_path
-from analysis.tracking import simulate
-from vehicles.vehicle import Vehicle
+from clearance.analysis.polyline import prepare_path
+from clearance.analysis.tracking import simulate
+from clearance.vehicles.vehicle import Vehicle
 
 CAR = Vehicle("car", 2.7, 1.5, 1.8, 0.9, 1.0, 0.6, 0.65, 0.5)
 

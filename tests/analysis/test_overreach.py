@@ -8,8 +8,8 @@ import numpy as np
 import pytest
 import shapely
 
-from analysis.clearance import signed_margin_m
-from analysis.overreach import DEFAULT_TOLERANCE_M, worst_overreach
+from clearance.analysis.margins import signed_margin_m
+from clearance.analysis.overreach import DEFAULT_TOLERANCE_M, worst_overreach
 
 
 def test_a_box_beyond_a_lane_by_a_known_depth():

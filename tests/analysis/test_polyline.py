@@ -5,9 +5,9 @@ import math
 import numpy as np
 import pytest
 
-from analysis.polyline import catmull_rom, prepare_path, smooth_polyline
-from analysis.tracking import simulate_batch
-from vehicles.vehicle import Vehicle
+from clearance.analysis.polyline import catmull_rom, prepare_path, smooth_polyline
+from clearance.analysis.tracking import simulate_batch
+from clearance.vehicles.vehicle import Vehicle
 
 CAR = Vehicle("car", 2.7, 1.5, 1.8, 0.9, 1.0, math.atan(2.7 / 4.5), 0.65, 0.4)
 

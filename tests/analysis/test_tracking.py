@@ -8,14 +8,14 @@ import math
 import numpy as np
 import pytest
 
-from analysis.envelope import swept_path
-from analysis.kinematics import SpeedProfile, ramp_step
-from analysis.polyline import prepare_path
-from analysis.tracking import TrackingSettings, simulate, simulate_batch, simulate_grid
-from analysis.trailer import steady_articulation_rad, steady_trailer_radius_m
+from clearance.analysis.envelope import swept_path
+from clearance.analysis.kinematics import SpeedProfile, ramp_step
+from clearance.analysis.polyline import prepare_path
+from clearance.analysis.tracking import TrackingSettings, simulate, simulate_batch, simulate_grid
+from clearance.analysis.trailer import steady_articulation_rad, steady_trailer_radius_m
+from clearance.vehicles.errors import GeometryError
+from clearance.vehicles.vehicle import Vehicle
 from tests.analysis.helpers import bus, car, semi, steady_rho, turn
-from vehicles.errors import InputError
-from vehicles.vehicle import Vehicle
 
 
 def test_straight_path_no_steering_and_exact_duration() -> None:
@@ -151,18 +151,18 @@ def test_speed_profile_by_station_slows_the_run() -> None:
 
 def test_bad_input_is_refused_with_names() -> None:
     odd = dataclasses.replace(car(), steered_axle="middle")
-    with pytest.raises(InputError, match="'car'.*steered_axle"):
+    with pytest.raises(ValueError, match="'car'.*steered_axle"):
         simulate(odd, turn(10.0, 90.0))
     rear_semi = dataclasses.replace(semi(), steered_axle="rear")
-    with pytest.raises(InputError, match="'semi'.*rear-steered.*trailer"):
+    with pytest.raises(ValueError, match="'semi'.*rear-steered.*trailer"):
         simulate(rear_semi, turn(10.0, 90.0))
-    with pytest.raises(InputError, match="wheelbase_m"):
+    with pytest.raises(ValueError, match="wheelbase_m"):
         simulate(dataclasses.replace(car(), wheelbase_m=-1.0), turn(10.0, 90.0))
-    with pytest.raises(InputError, match="path 0.*not finite"):
+    with pytest.raises(GeometryError, match="path 0.*not finite"):
         simulate(car(), [(0.0, 0.0), (math.nan, 1.0)])
-    with pytest.raises(InputError, match="paired"):
+    with pytest.raises(ValueError, match="paired"):
         simulate_batch([car(), car()], [turn(10, 9), turn(10, 9), turn(10, 9)])
-    with pytest.raises(InputError, match="tolerance_m"):
+    with pytest.raises(ValueError, match="tolerance_m"):
         TrackingSettings(tolerance_m=0.0)
 
 

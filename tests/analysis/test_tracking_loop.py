@@ -5,9 +5,9 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from analysis.kinematics import limit_steering, ramp_step
-from analysis.tracking_loop import articulation_one, limit_one, ramp_step_one
-from analysis.trailer import advance_articulation
+from clearance.analysis.kinematics import limit_steering, ramp_step
+from clearance.analysis.tracking_loop import articulation_one, limit_one, ramp_step_one
+from clearance.analysis.trailer import advance_articulation
 
 RNG = np.random.default_rng(11)
 

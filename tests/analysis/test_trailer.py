@@ -7,8 +7,8 @@ import math
 import numpy as np
 import pytest
 
-from analysis.kinematics import arc_step, integrate
-from analysis.trailer import (
+from clearance.analysis.kinematics import arc_step, integrate
+from clearance.analysis.trailer import (
     advance_articulation,
     steady_articulation_rad,
     steady_trailer_radius_m,

@@ -6,8 +6,13 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from analysis.control_law import rho_of_theta, safe_pathway, safe_pathway_of_theta, theta_of_rho
-from analysis.turning import (
+from clearance.analysis.control_law import (
+    rho_of_theta,
+    safe_pathway,
+    safe_pathway_of_theta,
+    theta_of_rho,
+)
+from clearance.analysis.turning import (
     articulation_limited_rho,
     full_lock_metrics,
     inside_radius,
@@ -15,9 +20,9 @@ from analysis.turning import (
     trailer_steady_state,
     turning_metrics,
 )
-from vehicles.lock import rho_from_ctr
-from vehicles.steering import ackermann_angles
-from vehicles.table import bundled_table, load_tables
+from clearance.vehicles.lock import rho_from_ctr
+from clearance.vehicles.steering import ackermann_angles
+from clearance.vehicles.table import bundled_table, load_tables
 
 FT = 0.3048
 

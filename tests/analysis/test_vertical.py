@@ -7,15 +7,15 @@ import math
 import numpy as np
 import pytest
 
-from analysis.vertical import (
+from clearance.analysis.vertical import (
     Body,
     body_clearance,
     front_contact,
     suspect_points,
     without_points,
 )
-from vehicles.underside import underside_from
-from vehicles.vehicle import Vehicle
+from clearance.vehicles.underside import underside_from
+from clearance.vehicles.vehicle import Vehicle
 
 
 def flat_body(clearance: float, wheelbase: float = 2.7, front: float = 0.9,

@@ -6,7 +6,7 @@ from pathlib import Path
 
 import pytest
 
-from networks.sumo.tools import find_sumo_binary, netconvert_plain
+from clearance.networks.sumo.tools import find_sumo_binary, netconvert_plain
 
 GAME_DIR_PARTS = ("tools", "game")
 
@@ -41,7 +41,7 @@ def build_net(tmp_path: Path, netconvert: Path):
 @pytest.fixture(scope="session")
 def small_grid(tmp_path_factory, netconvert: Path) -> Path:
     """A 5 x 5 grid of two-lane streets (netgenerate, as the benchmark's 100 x 100 one)."""
-    from networks.sumo.tools import run_sumo_tool
+    from clearance.networks.sumo.tools import run_sumo_tool
 
     path = tmp_path_factory.mktemp("grid") / "grid5.net.xml"
     run_sumo_tool("netgenerate", ["--grid", "--grid.number", "5", "--default.lanenumber", "2",

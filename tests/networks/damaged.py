@@ -14,7 +14,7 @@ from __future__ import annotations
 import re
 from pathlib import Path
 
-from networks.samples.sources import SAMPLES_DIR
+from clearance.networks.samples.sources import SAMPLES_DIR
 
 LANE = '<lane id="TE_in_0" index="0" speed="13.89" length="104.50" width="3.50" '
 CONNECTION = '<connection from="TE_in" to="TW_out" fromLane="0" toLane="0" via=":T_0_0" '

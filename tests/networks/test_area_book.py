@@ -6,11 +6,11 @@ import numpy as np
 import pytest
 import shapely
 
-from networks.area_book import AreaBook, _batches
-from networks.areas import attach_areas
-from networks.curves import extract_curves
-from networks.reader import read_network
-from networks.samples.sources import SAMPLES_DIR
+from clearance.networks.area_book import AreaBook, _batches
+from clearance.networks.areas import attach_areas
+from clearance.networks.curves import extract_curves
+from clearance.networks.reader import read_network
+from clearance.networks.samples.sources import SAMPLES_DIR
 
 
 def _net(name: str):
@@ -115,7 +115,7 @@ def _curve_values(c) -> tuple:
 # --------------------------------------------------------------------------- levels
 
 def _curve(net, curve_id: str, approach_m: float = 30.0):
-    from networks.curves import CurveOptions
+    from clearance.networks.curves import CurveOptions
 
     curves = extract_curves(net, options=CurveOptions(approach_length_m=approach_m))
     (c,) = [c for c in curves if c.curve_id == curve_id]
@@ -123,7 +123,7 @@ def _curve(net, curve_id: str, approach_m: float = 30.0):
 
 
 def test_flat_networks_have_no_levels_and_3d_samples_do():
-    from networks.area_book import network_is_flat
+    from clearance.networks.area_book import network_is_flat
 
     for name in ("intersection", "roundabout"):
         net = _net(name)
@@ -137,8 +137,8 @@ def test_flat_networks_have_no_levels_and_3d_samples_do():
 
 
 def test_no_part_of_a_helix_level_lies_a_storey_above_or_below():
-    from analysis.levels import LEVEL_BAND_M, band_pieces
-    from networks.area_groups import AreaIndex
+    from clearance.analysis.levels import LEVEL_BAND_M, band_pieces
+    from clearance.networks.area_groups import AreaIndex
 
     net = _net("helix")
     ramp = _curve(net, "ramp:helix_0->helix_0")
@@ -179,11 +179,11 @@ def test_level_swept_width_on_the_helix_is_one_passage_against_the_closed_form()
     import dataclasses
     import math
 
-    from analysis.clearance import evaluate
-    from analysis.control_law import safe_pathway
-    from networks.sumo.driver import DriveOptions, drive
-    from networks.sumo.runs import curve_areas
-    from vehicles.table import bundled_table, load_tables
+    from clearance.analysis.clearance import evaluate
+    from clearance.analysis.control_law import safe_pathway
+    from clearance.networks.driving.drive import DriveOptions, drive
+    from clearance.networks.driving.runs import curve_areas
+    from clearance.vehicles.table import bundled_table, load_tables
 
     net = _net("helix")
     ramp = _curve(net, "ramp:helix_0->helix_0")
@@ -216,10 +216,10 @@ def test_the_garage_ramp_is_clear_in_plan_and_fails_by_level_for_the_p():
     # level too: a driver swings wide in the 3.5 m lane)
     import dataclasses
 
-    from analysis.clearance import evaluate
-    from networks.sumo.driver import DriveOptions, drive
-    from networks.sumo.runs import curve_areas
-    from vehicles.table import bundled_table, load_tables
+    from clearance.analysis.clearance import evaluate
+    from clearance.networks.driving.drive import DriveOptions, drive
+    from clearance.networks.driving.runs import curve_areas
+    from clearance.vehicles.table import bundled_table, load_tables
 
     net = _net("garage")
     ramp = _curve(net, "ramp:ramp_in_0->ramp_down_0")

@@ -6,10 +6,10 @@ from dataclasses import replace
 
 import pytest
 
-from networks.area_groups import AreaIndex, BatchPlan, junctions_of, plain_edges_of
-from networks.curves import extract_curves
-from networks.reader import read_network
-from networks.samples.sources import SAMPLES_DIR
+from clearance.networks.area_groups import AreaIndex, BatchPlan, junctions_of, plain_edges_of
+from clearance.networks.curves import extract_curves
+from clearance.networks.reader import read_network
+from clearance.networks.samples.sources import SAMPLES_DIR
 
 SAMPLES = ("intersection", "roundabout", "parking_ramp")
 

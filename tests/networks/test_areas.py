@@ -7,7 +7,7 @@ import math
 import numpy as np
 import shapely
 
-from networks.areas import (
+from clearance.networks.areas import (
     CRACK_M,
     MIN_HOLE_M2,
     _fill_small_holes,
@@ -15,8 +15,8 @@ from networks.areas import (
     attach_areas,
     close_cracks,
 )
-from networks.curves import extract_curves
-from networks.reader import read_network
+from clearance.networks.curves import extract_curves
+from clearance.networks.reader import read_network
 
 
 def _wkb(parts) -> list[list[bytes]]:
@@ -27,9 +27,9 @@ def _wkb(parts) -> list[list[bytes]]:
 
 def _intersection_job():
     """The intersection sample's areas as one job (all its curves)."""
-    from networks.area_groups import AreaIndex, BatchPlan
-    from networks.areas import make_job
-    from networks.samples.sources import SAMPLES_DIR
+    from clearance.networks.area_groups import AreaIndex, BatchPlan
+    from clearance.networks.areas import make_job
+    from clearance.networks.samples.sources import SAMPLES_DIR
 
     net = read_network(SAMPLES_DIR / "intersection" / "intersection.net.xml")
     curves = extract_curves(net, areas=False)
@@ -112,8 +112,8 @@ def test_kinked_lanes_leave_no_gap_and_areas_nest(build_net):
 
 
 def test_junction_polygons_at_once_equal_one_by_one():
-    from networks.areas import SEAL_M, junction_polygons
-    from networks.samples.sources import SAMPLES_DIR
+    from clearance.networks.areas import SEAL_M, junction_polygons
+    from clearance.networks.samples.sources import SAMPLES_DIR
 
     net = read_network(SAMPLES_DIR / "roundabout" / "roundabout.net.xml")
     ids = list(net.junctions)
@@ -130,7 +130,7 @@ def test_junction_polygons_at_once_equal_one_by_one():
 
 
 def test_rows_sharing_their_first_two_entries_union_them_once(monkeypatch):
-    from networks import areas
+    from clearance.networks import areas
 
     g = np.array([shapely.box(0, 0, 2, 1), shapely.box(1, 0, 3, 1), shapely.box(2, 0, 4, 2)])
     calls = []

@@ -8,10 +8,10 @@ import math
 import numpy as np
 import pytest
 
-from networks.curves import CurveOptions, extract_curves
-from networks.profiles import MAX_WINDOW_M
-from networks.reader import read_network
-from vehicles.errors import InputError
+from clearance.networks.curves import CurveOptions, extract_curves
+from clearance.networks.profiles import MAX_WINDOW_M
+from clearance.networks.reader import read_network
+from clearance.vehicles.errors import InputError
 
 
 def _arc(cx, cy, r, a0_deg, a1_deg, step_deg=5.0, z0=0.0, z1=None):
@@ -210,7 +210,7 @@ def test_ids_are_stable_and_unique(build_net):
 
 
 def test_turns_are_found_in_the_order_of_their_ids(small_grid):
-    from networks.curves import find_turns
+    from clearance.networks.curves import find_turns
 
     net = read_network(small_grid)
     ids = [item[0] for item in find_turns(net, CurveOptions())]
@@ -262,7 +262,7 @@ def test_approach_and_exit_never_run_on_sidewalks_or_walking_areas(build_net):
     assert walk
     # the street's lanes do lead into walking areas
     assert any(c.to_lane in walk for c in net.connections)
-    from networks.paths import drivable
+    from clearance.networks.paths import drivable
 
     curves = extract_curves(net, ["turn"], CurveOptions(approach_length_m=60.0), areas=False)
     assert curves
@@ -279,7 +279,7 @@ def test_permissions_follow_the_lanes_allow(build_net):
              '<edge id="SX" from="S" to="X" numLanes="1"/>'
              '<edge id="XN" from="X" to="N" numLanes="1"/>')
     net = read_network(build_net(nodes, edges))
-    from networks.permissions import permits, permitted_lanes
+    from clearance.networks.permissions import permits, permitted_lanes
 
     by_id = {c.curve_id: c for c in extract_curves(net, ["turn"], areas=False)}
     from_w, from_s = by_id["turn:X:WX_0->XN_0"], by_id["turn:X:SX_0->XN_0"]
@@ -299,11 +299,11 @@ def test_a_lead_in_starts_after_its_last_tight_corner(build_net):
              '<edge id="BC" from="B" to="C" numLanes="1"/>'
              '<edge id="BD" from="B" to="D" numLanes="1"/>')
     net = read_network(build_net(nodes, edges))
-    from networks.paths import LEAD_KEEP_M
+    from clearance.networks.paths import LEAD_KEEP_M
 
     by_id = {c.curve_id: c for c in extract_curves(net, ["turn"], CurveOptions(40.0),
                                                    areas=False)}
-    from networks.geometry import curvature_profile, radius_from_curvature
+    from clearance.networks.geometry import curvature_profile, radius_from_curvature
 
     straight = by_id["turn:B:AB_0->BD_0"]
     # it starts after the corner, on the straight part (the corner is 20 m before B,

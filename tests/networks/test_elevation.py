@@ -6,10 +6,10 @@ import math
 
 import numpy as np
 
-from networks.area_book import network_is_flat
-from networks.curves import extract_curves
-from networks.reader import read_network
-from networks.samples.sources import SAMPLES_DIR
+from clearance.networks.area_book import network_is_flat
+from clearance.networks.curves import extract_curves
+from clearance.networks.reader import read_network
+from clearance.networks.samples.sources import SAMPLES_DIR
 
 RADIUS_M, RISE_M, TURNS = 9.0, 3.2, 2.0
 DESIGN_GRADE_PCT = 100 * RISE_M / (2 * math.pi * RADIUS_M)  # 5.66 %

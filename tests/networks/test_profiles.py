@@ -9,12 +9,12 @@ from unittest import mock
 import numpy as np
 import pytest
 
-import networks.profile_kernel
-import networks.profiles
-from networks.curves import extract_curves
-from networks.profiles import Profiles, Stations, profiles
-from networks.reader import read_network
-from networks.samples import build as samples
+import clearance.networks.profile_kernel
+import clearance.networks.profiles
+from clearance.networks.curves import extract_curves
+from clearance.networks.profiles import Profiles, Stations, profiles
+from clearance.networks.reader import read_network
+from clearance.networks.samples import build as samples
 
 RNG = np.random.default_rng(20240611)
 
@@ -27,8 +27,8 @@ _GAP_M = 10.0
 def reference_profiles(lines, core_from_m, core_to_m, chunk_lines=20000, **kw) -> Profiles:
     """:func:`profiles` with its compiled chunks replaced by the numpy version below
     (the loop over chunks, which only concatenates their results, is the library's)."""
-    with mock.patch.object(networks.profiles, "_chunk", _reference_chunk), \
-            mock.patch.object(networks.profiles, "CHUNK_LINES", chunk_lines):
+    with mock.patch.object(clearance.networks.profiles, "_chunk", _reference_chunk), \
+            mock.patch.object(clearance.networks.profiles, "CHUNK_LINES", chunk_lines):
         return profiles(lines, core_from_m, core_to_m, **kw)
 
 
@@ -247,7 +247,7 @@ def test_stations_give_back_the_profile_stations_exactly():
 @pytest.mark.parametrize("adaptive", [True, False])
 @pytest.mark.parametrize("chunk", [20000, 7])
 def test_compiled_loops_equal_the_numpy_version_on_random_lines(adaptive, chunk, monkeypatch):
-    monkeypatch.setattr(networks.profiles, "CHUNK_LINES", chunk)
+    monkeypatch.setattr(clearance.networks.profiles, "CHUNK_LINES", chunk)
     rng = np.random.default_rng(1000 + chunk + adaptive)
     for step, window, margin, max_window in [(0.25, 3.0, None, 15.0), (0.5, 2.0, 0.0, 15.0),
                                              (0.1, 6.0, 1.3, 4.0), (1.0, 3.0, 10.0, 30.0)]:
@@ -330,6 +330,6 @@ def test_a_straight_line_has_no_curvature_and_no_turn():
 
 
 def test_docstring_examples():
-    for mod in (networks.profiles, networks.profile_kernel):
+    for mod in (clearance.networks.profiles, clearance.networks.profile_kernel):
         result = doctest.testmod(mod)
         assert result.failed == 0 and result.attempted > 0, mod.__name__

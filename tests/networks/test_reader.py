@@ -9,22 +9,22 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-import networks.areas
-import networks.curves
-import networks.geometry
-import networks.paths
-import networks.plot
-import networks.profiles
-import networks.reader
-import networks.safe_xml
-import networks.samples.sources
-import networks.shapes
-from networks.model import DEFAULT_LANE_WIDTH_M, resolve_allowed
-from networks.reader import read_network
-from networks.samples.sources import SAMPLES_DIR
-from networks.shapes import parse_shape, parse_shapes
+import clearance.networks.areas
+import clearance.networks.curves
+import clearance.networks.geometry
+import clearance.networks.paths
+import clearance.networks.plot
+import clearance.networks.profiles
+import clearance.networks.reader
+import clearance.networks.safe_xml
+import clearance.networks.samples.sources
+import clearance.networks.shapes
+from clearance.networks.model import DEFAULT_LANE_WIDTH_M, resolve_allowed
+from clearance.networks.reader import read_network
+from clearance.networks.samples.sources import SAMPLES_DIR
+from clearance.networks.shapes import parse_shape, parse_shapes
+from clearance.vehicles.errors import InputError
 from tests.networks import damaged
-from vehicles.errors import InputError
 
 NODES = """
 <node id="A" x="0" y="0" type="priority"/>
@@ -39,16 +39,16 @@ EDGES = """
 
 def test_doctests_of_network_modules():
     modules = (
-        networks.areas,
-        networks.curves,
-        networks.geometry,
-        networks.paths,
-        networks.plot,
-        networks.profiles,
-        networks.reader,
-        networks.safe_xml,
-        networks.shapes,
-        networks.samples.sources,
+        clearance.networks.areas,
+        clearance.networks.curves,
+        clearance.networks.geometry,
+        clearance.networks.paths,
+        clearance.networks.plot,
+        clearance.networks.profiles,
+        clearance.networks.reader,
+        clearance.networks.safe_xml,
+        clearance.networks.shapes,
+        clearance.networks.samples.sources,
     )
     for mod in modules:
         result = doctest.testmod(mod)
@@ -164,7 +164,7 @@ def test_a_network_without_edges_is_read_empty_as_sumo_loads_it(tmp_path):
     p = _write(tmp_path, "n.net.xml", '<net version="1.20"></net>')
     net = read_network(p)
     assert (net.edges, net.lanes, net.repairs) == ({}, {}, ["the network has no edge"])
-    assert networks.curves.extract_curves(net) == []
+    assert clearance.networks.curves.extract_curves(net) == []
 
 
 def test_entity_declarations_are_refused(tmp_path):
@@ -223,7 +223,7 @@ def test_bad_number_names_the_element(tmp_path):
 def test_what_a_paused_block_made_goes_to_the_oldest_generation_unscanned():
     import gc
 
-    from networks.collector import gc_paused
+    from clearance.networks.collector import gc_paused
 
     class Node:
         pass
@@ -282,7 +282,7 @@ def test_what_sumo_loads_is_read_the_broken_element_repaired_or_left_out(tmp_pat
                for lane in net.lanes.values())
     assert all(0 < lane.width_m <= 50 for lane in net.lanes.values())
     assert all(np.isfinite([j.x, j.y, j.z]).all() for j in net.junctions.values())
-    networks.curves.extract_curves(net)
+    clearance.networks.curves.extract_curves(net)
 
 
 def test_an_intact_network_has_no_repairs():

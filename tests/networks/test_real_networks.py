@@ -9,13 +9,13 @@ import numpy as np
 import pytest
 import shapely
 
-from networks.curves import CurveOptions, extract_curves
-from networks.reader import read_network
+from clearance.networks.curves import CurveOptions, extract_curves
+from clearance.networks.reader import read_network
 
 
 def _game_net(relative: str) -> Path:
     try:
-        from networks.sumo.tools import sumo_home
+        from clearance.networks.sumo.tools import sumo_home
 
         path = sumo_home() / "tools" / "game" / relative
     except FileNotFoundError as exc:  # pragma: no cover
@@ -106,9 +106,9 @@ def _realnet(name: str) -> Path:
 @pytest.fixture(scope="module")
 def bologna_p():
     """bologna_joined's curves and the passenger car P driven through each (no SUMO)."""
-    from networks.sumo.driver import DriveOptions, drive
-    from reports.study import APPROACH_M
-    from vehicles.table import bundled_table, load_tables
+    from clearance.networks.driving.drive import DriveOptions, drive
+    from clearance.reports.study.run import APPROACH_M
+    from clearance.vehicles.table import bundled_table, load_tables
 
     net = read_network(_realnet("bologna_joined.net.xml.gz"))
     curves = extract_curves(net, options=CurveOptions(approach_length_m=APPROACH_M))
@@ -148,7 +148,7 @@ def test_real_network_judged_in_the_feature_and_mostly_drivable(bologna_p):
     import re
 
     net, curves, runs = bologna_p
-    from networks.permissions import permits
+    from clearance.networks.permissions import permits
 
     assert all(c.kind != "uturn" for c in curves)
     judged = [d for d in runs if permits(net, d.curve, "passenger")]
@@ -189,9 +189,9 @@ def test_real_network_is_flat_and_its_levels_would_be_its_plan_areas():
     # bologna_joined has no heights: judged in plan as before (no levels at all), and the
     # levels' member lists rebuild the plan areas (forced into one storey): the lanes and
     # roadways exactly, the paved areas but for slivers of a few hundredths of a m² where
-    # the crack closing (networks.areas.close_cracks) of a union built another way differs
-    from networks.area_book import curve_levels, network_is_flat
-    from networks.area_groups import AreaIndex
+    # the crack closing (clearance.networks.areas.close_cracks) of a union built another way differs
+    from clearance.networks.area_book import curve_levels, network_is_flat
+    from clearance.networks.area_groups import AreaIndex
 
     net = read_network(_realnet("bologna_joined.net.xml.gz"))
     assert network_is_flat(net)
@@ -215,9 +215,9 @@ def test_real_network_street_lifted_5_m_over_nothing_is_no_storey():
     # storey: the junction's other turns are judged in plan, as on a road that climbs (the
     # band rule cut it away and judged them against a hole; tests/networks/test_stacking.py
     # has a flyover that does cross over a street)
-    from networks.area_book import curve_levels
-    from networks.area_groups import AreaIndex
-    from networks.areas import lane_polygons
+    from clearance.networks.area_book import curve_levels
+    from clearance.networks.area_groups import AreaIndex
+    from clearance.networks.areas import lane_polygons
 
     net = read_network(_realnet("bologna_joined.net.xml.gz"))
     curves = extract_curves(net, ["turn"])
@@ -284,8 +284,8 @@ def test_a10kw_u_turns_onto_the_other_carriageway_are_uturns():
 def test_paved_area_holds_the_junctions_of_the_lead_in_and_run_out(name, pair, least):
     # the polygon of a junction the run drives through is pavement; it was left out, and
     # the car at the curve's start "left the paved area" there
-    from networks.areas import junction_polygons
-    from networks.paths import junction_of_internal
+    from clearance.networks.areas import junction_polygons
+    from clearance.networks.paths import junction_of_internal
 
     net = read_network(_realnet(name))
     curves = [c for c in extract_curves(net, ["turn"]) if c.curve_id.split(":")[1] in pair]

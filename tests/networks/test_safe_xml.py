@@ -5,13 +5,12 @@ from __future__ import annotations
 import gzip
 import os
 import subprocess
-import sys
 from pathlib import Path
 
 import pytest
 
-from networks.reader import read_network
-from networks.safe_xml import (
+from clearance.networks.reader import read_network
+from clearance.networks.safe_xml import (
     DEFAULT_MAX_BYTES,
     DEFAULT_MAX_ELEMENTS,
     MAX_ELEMENTS_ENV,
@@ -21,9 +20,10 @@ from networks.safe_xml import (
     open_binary,
     scan_prolog,
 )
-from networks.samples.sources import SAMPLES_DIR
+from clearance.networks.samples.sources import SAMPLES_DIR
+from clearance.vehicles.errors import InputError
+from tests.cli import CLI
 from tests.timeouts import within
-from vehicles.errors import InputError
 
 REPO = Path(__file__).resolve().parents[2]
 INTERSECTION = SAMPLES_DIR / "intersection" / "intersection.net.xml"
@@ -45,7 +45,7 @@ def test_a_fifo_named_as_the_dtd_is_never_opened(tmp_path):
     net = with_doctype(tmp_path, str(fifo))
     out = tmp_path / "curves.csv"
     proc = subprocess.run(
-        [sys.executable, "-m", "reports.cli", "curves", "-n", str(net), "-o", str(out)],
+        [*CLI, "curves", "-n", str(net), "-o", str(out)],
         capture_output=True, text=True, timeout=30, cwd=REPO, check=False)
     assert proc.returncode == 0, proc.stderr
     assert out.read_text().count("\n") > 10  # the network was read in full

@@ -7,10 +7,10 @@ import math
 import numpy as np
 import pytest
 
-from networks.curves import extract_curves
-from networks.reader import read_network
-from networks.samples import build as samples
-from networks.samples import sources
+from clearance.networks.curves import extract_curves
+from clearance.networks.reader import read_network
+from clearance.networks.samples import build as samples
+from clearance.networks.samples import sources
 
 
 @pytest.mark.parametrize("name", samples.SAMPLES)
@@ -130,7 +130,7 @@ def test_garage_sample_deck_lies_above_the_aisle():
 
 
 def test_plan_figure_is_drawn(tmp_path):
-    from networks.plot import save_plan
+    from clearance.networks.plot import save_plan
 
     png = save_plan(
         samples.SAMPLES_DIR / "parking_ramp" / "parking_ramp.net.xml",

@@ -6,10 +6,10 @@ import numpy as np
 import pytest
 import shapely
 
-from networks.curves import KINDS, extract_curves
-from networks.reader import read_network
-from networks.samples.build import SAMPLES_DIR
-from networks.selection import (
+from clearance.networks.curves import KINDS, extract_curves
+from clearance.networks.reader import read_network
+from clearance.networks.samples.build import SAMPLES_DIR
+from clearance.networks.selection import (
     Selection,
     check_junctions,
     feature_line,
@@ -18,7 +18,7 @@ from networks.selection import (
     parse_bbox,
     select,
 )
-from vehicles.errors import InputError
+from clearance.vehicles.errors import InputError
 
 
 @pytest.fixture(scope="module")

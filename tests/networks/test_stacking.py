@@ -7,13 +7,13 @@ import doctest
 import numpy as np
 import shapely
 
-import networks.stacking
-from networks.area_book import curve_levels
-from networks.area_groups import AreaIndex
-from networks.curves import extract_curves
-from networks.reader import read_network
-from networks.samples.sources import SAMPLES_DIR
-from networks.stacking import densify, met_pieces, stacking
+import clearance.networks.stacking
+from clearance.networks.area_book import curve_levels
+from clearance.networks.area_groups import AreaIndex
+from clearance.networks.curves import extract_curves
+from clearance.networks.reader import read_network
+from clearance.networks.samples.sources import SAMPLES_DIR
+from clearance.networks.stacking import densify, met_pieces, stacking
 from tests.networks.sumo.test_parity import HAND_PICKED
 
 #: The networks of SUMO's test suite in tests/data/sumo_corpus whose roads climb: nothing
@@ -37,7 +37,7 @@ FLYOVER_EDGES = """
 
 
 def test_doctests():
-    assert doctest.testmod(networks.stacking).failed == 0
+    assert doctest.testmod(clearance.networks.stacking).failed == 0
 
 
 def test_the_helix_and_the_garage_are_stacked_and_climbing_roads_are_not():

@@ -9,7 +9,7 @@ import pytest
 def bus_street_net(tmp_path):
     """A T junction X whose west arm WX admits buses only (``allow="bus"``), with two
     one-lane streets SX and XN open to all: a car may drive S->N, only a bus W->N."""
-    from networks.sumo.tools import netconvert_plain
+    from clearance.networks.sumo.tools import netconvert_plain
 
     try:
         return netconvert_plain(

@@ -8,11 +8,11 @@ import hashlib
 import numpy as np
 import pytest
 
-from networks.curves import extract_curves
-from networks.reader import read_network
-from reports.batch import Batch, detached, run_batch, split_batch, worker_network
-from reports.cmd_report import sample_networks
-from vehicles.table import bundled_table_paths, load_tables
+from clearance.networks.curves import extract_curves
+from clearance.networks.reader import read_network
+from clearance.networks.samples.build import sample_networks
+from clearance.reports.study.batch import Batch, detached, run_batch, split_batch, worker_network
+from clearance.vehicles.table import bundled_table_paths, load_tables
 
 NET = next(p for p in sample_networks() if p.stem.startswith("intersection"))
 SAMPLES = NET.parent.parent
@@ -76,7 +76,7 @@ def test_a_worker_builds_the_areas_of_bare_curves_as_the_parent_does():
     so is every record, the conflict parts the exports draw included."""
     import pickle
 
-    from reports.batch import bare, with_areas
+    from clearance.reports.study.batch import bare, with_areas
 
     net = read_network(NET)
     parent = extract_curves(net)[:6]
@@ -102,7 +102,7 @@ def test_a_worker_builds_the_areas_of_bare_curves_as_the_parent_does():
 def test_a_worker_gives_bare_curves_of_a_garage_their_storeys():
     """On a network with storeys the worker builds each curve's levels as the parent's
     area book does: the same segments, the same storey areas; a flat network gets none."""
-    from reports.batch import bare, with_areas
+    from clearance.reports.study.batch import bare, with_areas
 
     helix = SAMPLES / "helix" / "helix.net.xml"
     net = read_network(helix)

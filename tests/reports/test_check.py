@@ -2,15 +2,15 @@
 
 import csv
 import subprocess
-import sys
 from pathlib import Path
 
 import pytest
 
-from reports.cli import main
-from reports.cmd_report import sample_networks
-from reports.csv_rows import csv_line
-from reports.golden import compare, read_golden
+from clearance.networks.samples.build import sample_networks
+from clearance.reports.cli.main import main
+from clearance.reports.results.csv_rows import csv_line
+from clearance.reports.results.golden import compare, read_golden
+from tests.cli import CLI
 
 NETS = {p.stem.split(".")[0]: str(p) for p in sample_networks()}
 
@@ -43,7 +43,7 @@ def test_allowed_verdicts_pass(capsys):
 def test_malformed_input_exits_2_without_traceback(tmp_path):
     bad = tmp_path / "bad.net.xml"
     bad.write_text("this is not a network")
-    proc = subprocess.run([sys.executable, "-m", "reports.cli", "check", "-n", str(bad),
+    proc = subprocess.run([*CLI, "check", "-n", str(bad),
                            "--design-vehicle", "P"], capture_output=True, text=True)
     assert proc.returncode == 2
     assert "bad.net.xml" in proc.stderr and "Traceback" not in proc.stderr

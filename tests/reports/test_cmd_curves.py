@@ -9,9 +9,9 @@ from pathlib import Path
 
 import pytest
 
-from networks.sumo.tools import netconvert_plain
-from reports.cli import main
-from reports.cmd_curves import COLUMNS
+from clearance.networks.sumo.tools import netconvert_plain
+from clearance.reports.cli.main import main
+from clearance.reports.results.curve_rows import COLUMNS
 
 NODES = (
     '<nodes><node id="C" x="0" y="0" type="traffic_light" radius="8"/>'
@@ -127,7 +127,7 @@ def test_output_csv_gets_the_permissions_of_the_umask(tee_net, tmp_path):
 
 
 def test_straight_movements_are_said_in_words(capsys):
-    from networks.samples.build import SAMPLES_DIR
+    from clearance.networks.samples.build import SAMPLES_DIR
 
     net = SAMPLES_DIR / "intersection" / "intersection.net.xml"
     assert main(["curves", "-n", str(net), "--limit", "100"]) == 0

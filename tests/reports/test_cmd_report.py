@@ -1,4 +1,5 @@
-"""``clearance report``'s drawings in worker processes (:class:`reports.cmd_report.Drawings`):
+"""``clearance report``'s drawings in worker processes
+(:class:`clearance.reports.cli.report.Drawings`):
 a worker that dies while drawing costs at most that drawing, and the report says so."""
 
 from __future__ import annotations
@@ -12,10 +13,11 @@ from pathlib import Path
 
 import pytest
 
-from reports import cmd_report
-from reports.cli import main
-from reports.cmd_report import Drawing, sample_networks
-from reports.executor import LocalExecutor
+from clearance.networks.samples.build import sample_networks
+from clearance.reports.cli import report as cmd_report
+from clearance.reports.cli.main import main
+from clearance.reports.documents.drawings import Drawing
+from clearance.reports.study.executor import LocalExecutor
 
 NET = next(p for p in sample_networks() if p.stem.startswith("intersection"))
 #: A small report: the T junction's curves (three figures), analytic (fast), two workers.
@@ -66,7 +68,7 @@ def report(out: Path, executor: LocalExecutor | None = None) -> tuple[int, list[
     """``clearance report ARGS -o out`` with ``executor`` in place of the usual one: the
     exit status and the warnings."""
     kept = Kept()
-    logger = logging.getLogger("reports")
+    logger = logging.getLogger("clearance.reports")
     logger.addHandler(kept)
     try:
         with pytest.MonkeyPatch.context() as mp:

@@ -12,14 +12,15 @@ from types import SimpleNamespace
 import numpy as np
 import pytest
 
-from networks.samples import build as samples
-from networks.selection import Selection
-from reports import cmd_simulate
-from reports.cli import main
-from reports.file_names import file_name
-from reports.study import run_study
-from reports.tables import clearance_csv
-from vehicles.table import bundled_table, load_tables
+from clearance.networks.samples import build as samples
+from clearance.networks.selection import Selection
+from clearance.networks.sumo import placement
+from clearance.reports.cli.main import main
+from clearance.reports.output.file_names import file_name
+from clearance.reports.results import simulate_files
+from clearance.reports.results.tables import clearance_csv
+from clearance.reports.study.run import run_study
+from clearance.vehicles.table import bundled_table, load_tables
 
 pytest.importorskip("libsumo")
 
@@ -46,8 +47,8 @@ def _results(folder):
 
 def test_results_hold_the_designed_verdicts(outputs):
     rows = _results(outputs[0])
-    assert list(next(iter(rows.values())))[: len(cmd_simulate.RESULT_COLUMNS)] == list(
-        cmd_simulate.RESULT_COLUMNS)
+    assert list(next(iter(rows.values())))[: len(simulate_files.RESULT_COLUMNS)] == list(
+        simulate_files.RESULT_COLUMNS)
     # the designed verdicts are the lane's; a bus that cuts X's NW curb on its lane
     # swings into the two opposing lanes and stays paved; one that cannot make the T on
     # its lane swings wide into the opposing lane and makes it
@@ -126,7 +127,7 @@ def test_the_printed_replay_command_runs_after_a_pip_install(outputs, tmp_path):
     a, _ = outputs
     env = {k: v for k, v in os.environ.items() if k not in ("SUMO_HOME", "VIRTUAL_ENV")}
     env["PATH"] = "/usr/bin:/bin"
-    command = cmd_simulate.replay_command(a / "replay.sumocfg", a / "fcd.xml")
+    command = placement.replay_command(a / "replay.sumocfg", a / "fcd.xml")
     # --help: fcdReplay.py parses its options and exits before it opens sumo-gui (which
     # needs a display); it gets that far only with SUMO_HOME's sumolib and traci
     for cmd in (command + " --help", f"sh {a / 'replay.sh'} --help"):
@@ -154,7 +155,7 @@ def test_selection_by_junction_and_box(capsys):
     assert main([*base, "--junction", "T"]) == 0
     assert "4 run(s)" in capsys.readouterr().out  # the four turns of the T junction
     # a box round the X junction's centre only
-    from networks.reader import read_network
+    from clearance.networks.reader import read_network
 
     x = read_network(NET).junctions["X"]
     box = f"{x.x - 3},{x.y - 3},{x.x + 3},{x.y + 3}"
@@ -190,7 +191,7 @@ def test_trajectory_file_names_are_safe_and_unique():
     runs = [SimpleNamespace(vehicle=SimpleNamespace(name=n), curve=SimpleNamespace(curve_id=c))
             for n, c in (("a b", "turn:J"), ("a_b", "turn_J"), ("car", "bend7"),
                          ("car", ".."))]
-    names = cmd_simulate.trajectory_files(runs)
+    names = simulate_files.trajectory_files(runs)
     assert len(set(names)) == 4
     assert names[2] == "car__bend7.csv"  # nothing to change: the ids themselves
     assert names[0].startswith("a_b__turn_J~") and names[0].endswith(".csv")
@@ -200,13 +201,13 @@ def test_trajectory_file_names_are_safe_and_unique():
 
 
 def test_a_run_that_crashes_sumo_fails_alone_and_the_others_are_driven():
-    from analysis.tracking import TrackingSettings
-    from networks.curves import extract_curves
-    from networks.reader import read_network
-    from networks.sumo.driver import DriveOptions
-    from reports.cmd_simulate import drive_in_workers
+    from clearance.analysis.tracking import TrackingSettings
+    from clearance.networks.curves import extract_curves
+    from clearance.networks.driving.drive import DriveOptions
+    from clearance.networks.reader import read_network
+    from clearance.reports.study.drives import drive_in_workers
+    from clearance.vehicles.table import bundled_table_paths, load_tables
     from tests.reports.test_executor import CrashingExecutor
-    from vehicles.table import bundled_table_paths, load_tables
 
     net = read_network(NET)
     curves = extract_curves(net)[:6]
@@ -224,7 +225,7 @@ def test_a_run_that_crashes_sumo_fails_alone_and_the_others_are_driven():
 
 
 #: Columns results.csv shares with clearance.csv: the verdicts, the path and the design
-#: feedback (reports.feedback), which the two commands must fill alike.
+#: feedback (clearance.reports.results.feedback), which the two commands must fill alike.
 SHARED = ("verdict", "margin_m", "paved_margin_m", "max_offtracking_m", "swept_width_m",
           "lane_verdict", "lane_margin_m", "path", "encroaches_on", "reason", "serves_up_to",
           "serves_encroaching_up_to", "overreach_station_m", "overreach_x", "overreach_y",
@@ -239,7 +240,7 @@ def test_results_carry_the_design_feedback_of_clearance_report(tmp_path):
         args += ["--vehicle", v]
     assert main(args) == 0
     sim = _results(out)
-    assert set(SHARED) <= set(cmd_simulate.RESULT_COLUMNS)
+    assert set(SHARED) <= set(simulate_files.RESULT_COLUMNS)
     study = run_study([NET], load_tables(None, vehicles), workers=1,
                       selection=Selection(junctions=("T",)))
     report = {(r["vehicle"], r["curve_id"]): r

@@ -3,12 +3,12 @@
 import csv
 import logging
 import subprocess
-import sys
 
 import pytest
 
-from reports.cli import main
-from vehicles.table import bundled_table
+from clearance.reports.cli.main import main
+from clearance.vehicles.table import bundled_table
+from tests.cli import CLI
 
 FT = 0.3048
 REQUIRED = ["vehicle", "wheelbase", "track", "width", "max_steer_deg", "outer_steer_deg",
@@ -59,7 +59,7 @@ def test_bad_table_exits_2_without_traceback_and_keeps_old_output(tmp_path):
                    "max_steer_deg\nA,car,m,4.5,1.8,2.7,0.9,test,95\nB,car,m,x,1.8,2.7,0.9,t,30\n")
     out = tmp_path / "out.csv"
     out.write_text("previous\n")
-    proc = subprocess.run([sys.executable, "-m", "reports.cli", "vehicles", "-t", str(bad),
+    proc = subprocess.run([*CLI, "vehicles", "-t", str(bad),
                            "-o", str(out)], capture_output=True, text=True)
     assert proc.returncode == 2
     assert "Traceback" not in proc.stderr
@@ -100,7 +100,7 @@ def test_combinations_show_the_180_degree_turn_and_no_steady_state(tmp_path, cap
 
 
 def test_the_smart_rows_w_l_warning_only_where_that_row_is_used(capsys, caplog):
-    caplog.set_level(logging.WARNING, logger="vehicles")
+    caplog.set_level(logging.WARNING, logger="clearance.vehicles")
     assert main(["vehicles", "--vehicle", "P"]) == 0
     assert "w_l" not in caplog.text
     assert "(1 vehicle;" in capsys.readouterr().out  # not "1 vehicles"

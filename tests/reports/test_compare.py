@@ -5,19 +5,19 @@ import math
 
 import pytest
 
-from analysis.control_law import safe_pathway
-from analysis.turning import turning_metrics
-from reports.cli import main
-from reports.compare import PANEL_LINES, comparison_table, panels_of
-from reports.templates import (
+from clearance.analysis.control_law import safe_pathway
+from clearance.analysis.turning import turning_metrics
+from clearance.reports.cli.main import main
+from clearance.reports.documents.compare import PANEL_LINES, comparison_table, panels_of
+from clearance.reports.documents.templates import (
     build_templates,
     steady_words,
     template_dimensions,
     template_path,
     write_template_sheets,
 )
+from clearance.vehicles.table import bundled_table, load_tables
 from tests.reports.test_sheets import pdf_pages
-from vehicles.table import bundled_table, load_tables
 
 NAMES = ["2009 Smart Car", "2010 Honda Odyssey", "P", "SU-30"]
 

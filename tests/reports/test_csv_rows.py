@@ -4,8 +4,8 @@ from __future__ import annotations
 
 import pytest
 
-from reports.csv_rows import csv_line, read_rows
-from vehicles.errors import InputError
+from clearance.reports.results.csv_rows import csv_line, read_rows
+from clearance.vehicles.errors import InputError
 
 
 def test_hash_in_fields_and_after_the_header_is_data(tmp_path):

@@ -1,4 +1,5 @@
-"""The runs a drawing drives again (reports.drawing.rerun): the study's own path, its line
+"""The runs a drawing drives again (clearance.reports.documents.drawing.rerun): the study's own
+path, its line
 driven again without the search of swung paths, and the same drawings as with the search."""
 
 from __future__ import annotations
@@ -7,14 +8,15 @@ import dataclasses
 
 import pytest
 
-import networks.sumo.driver
-import networks.sumo.swing
-from reports.cmd_report import drawn_geometry, sample_networks
-from reports.drawing import rerun
-from reports.figures import plot_curve
-from reports.records import COLUMNS
-from reports.study import Study, run_study
-from vehicles.table import bundled_table_paths, load_tables
+import clearance.networks.driving.drive
+import clearance.networks.driving.swing
+from clearance.networks.samples.build import sample_networks
+from clearance.reports.documents.drawing import rerun
+from clearance.reports.documents.figures import plot_curve
+from clearance.reports.exports.study import drawn_geometry
+from clearance.reports.results.records import COLUMNS
+from clearance.reports.study.run import Study, run_study
+from clearance.vehicles.table import bundled_table_paths, load_tables
 
 NET = next(p for p in sample_networks() if p.stem.startswith("intersection"))
 #: Vehicles that take swung paths at the sample's corners.
@@ -29,14 +31,14 @@ def study() -> Study:
 def no_search(monkeypatch: pytest.MonkeyPatch) -> list[int]:
     """Count the searches of swung paths from now on (by the driver's own name too)."""
     calls: list[int] = []
-    real = networks.sumo.swing.swing_pass
+    real = clearance.networks.driving.swing.swing_pass
 
     def counted(*args, **kwargs) -> int:
         calls.append(1)
         return real(*args, **kwargs)
 
-    monkeypatch.setattr(networks.sumo.swing, "swing_pass", counted)
-    monkeypatch.setattr(networks.sumo.driver, "swing_pass", counted)
+    monkeypatch.setattr(clearance.networks.driving.swing, "swing_pass", counted)
+    monkeypatch.setattr(clearance.networks.driving.drive, "swing_pass", counted)
     return calls
 
 
@@ -114,11 +116,11 @@ def test_the_drawings_are_those_of_the_search(study, tmp_path):
 
 
 def test_the_exports_task_carries_only_the_lines_it_draws(study):
-    """(reports.cmd_report) A network's exports drive its worst run of each of the worst
+    """(clearance.reports.cli.report) A network's exports drive its worst run of each of the worst
     curves again; the other records go to the worker without their lines."""
-    from reports.cmd_report import _network_tasks
+    from clearance.reports.documents.drawings import network_tasks
 
-    tasks = {d.part: d.task for d, _ in _network_tasks(study, [], "m", None)}
+    tasks = {d.part: d.task for d, _ in network_tasks(study, [], "m", None)}
     drawn = drawn_geometry(study)
     exported = tasks["exports"].records
     assert [r.curve_id for r in exported] == [r.curve_id for r in study.records]

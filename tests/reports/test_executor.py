@@ -7,11 +7,11 @@ import os
 
 import pytest
 
-from reports.cmd_report import sample_networks
-from reports.executor import LocalExecutor, WorkerLost, cores, run_isolated
-from reports.study import run_study
-from reports.tables import clearance_csv
-from vehicles.table import bundled_table_paths, load_tables
+from clearance.networks.samples.build import sample_networks
+from clearance.reports.results.tables import clearance_csv
+from clearance.reports.study.executor import LocalExecutor, WorkerLost, cores, run_isolated
+from clearance.reports.study.run import run_study
+from clearance.vehicles.table import bundled_table_paths, load_tables
 
 NET = next(p for p in sample_networks() if p.stem.startswith("intersection"))
 

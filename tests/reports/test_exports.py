@@ -22,14 +22,19 @@ from shapely.affinity import translate
 from shapely.geometry import LineString, MultiPolygon, Point, Polygon
 from shapely.ops import unary_union
 
-from networks.model import Location
-from networks.reader import read_network
-from networks.sumo.tools import find_sumo_binary, sumo_home
-from reports.export_dxf import BASE_LAYERS, VERDICT_ACI, dxf_layer_name, write_dxf
-from reports.export_geojson import COORDS_LOCAL, COORDS_LONLAT, COORDS_MIXED, write_geojson
-from reports.export_sumo import hole_free_pieces, write_sumo_additional
-from reports.exports import EnvelopeRecord, conflict_parts
-from vehicles.errors import InputError
+from clearance.networks.model import Location
+from clearance.networks.reader import read_network
+from clearance.networks.sumo.tools import find_sumo_binary, sumo_home
+from clearance.reports.exports.dxf import BASE_LAYERS, VERDICT_ACI, dxf_layer_name, write_dxf
+from clearance.reports.exports.envelopes import EnvelopeRecord, conflict_parts
+from clearance.reports.exports.geojson import (
+    COORDS_LOCAL,
+    COORDS_LONLAT,
+    COORDS_MIXED,
+    write_geojson,
+)
+from clearance.reports.exports.sumo import hole_free_pieces, write_sumo_additional
+from clearance.vehicles.errors import GeometryError, InputError
 
 SAMPLES = Path(__file__).resolve().parents[2] / "networks" / "samples"
 INTERSECTION = SAMPLES / "intersection" / "intersection.net.xml"
@@ -162,13 +167,13 @@ def test_geojson_mixed_networks_are_local_metres(tmp_path: Path, projected_net: 
 def test_geojson_bad_inputs(tmp_path: Path):
     out = tmp_path / "bad.geojson"
     empty = EnvelopeRecord("intersection", "Van", "c9", "turn", "clear", 0.1, Polygon())
-    with pytest.raises(InputError, match="intersection/Van/c9.*empty"):
+    with pytest.raises(GeometryError, match="intersection/Van/c9.*empty"):
         write_geojson(out, [empty], {"intersection": LOCAL})
     point = EnvelopeRecord("intersection", "Van", "c9", "turn", "clear", 0.1, Point(0, 0))
-    with pytest.raises(InputError, match="Polygon or MultiPolygon, got Point"):
+    with pytest.raises(ValueError, match="Polygon or MultiPolygon, got Point"):
         write_geojson(out, [point], {"intersection": LOCAL})
     wrong = EnvelopeRecord("intersection", "Van", "c9", "turn", "ok", 0.1, TURN.buffer(1))
-    with pytest.raises(InputError, match="unknown verdict 'ok'"):
+    with pytest.raises(ValueError, match="unknown verdict 'ok'"):
         write_geojson(out, [wrong], {"intersection": LOCAL})
     with pytest.raises(InputError, match="no location given for network.*intersection"):
         write_geojson(out, records(), {})
@@ -247,7 +252,7 @@ def test_hole_free_pieces_cover_the_same_area():
 
 def test_sumo_additional_bad_input(tmp_path: Path):
     ctrl = EnvelopeRecord("intersection", "Car\x01", "c", "turn", "clear", 0.1, TURN.buffer(1))
-    with pytest.raises(InputError, match="cannot be written as XML"):
+    with pytest.raises(ValueError, match="cannot be written as XML"):
         write_sumo_additional(tmp_path / "bad.add.xml", [ctrl])
 
 
@@ -338,7 +343,8 @@ def test_dxf_base_plan_and_conflict_layers(tmp_path: Path):
 
 
 def test_conflict_parts_doctest_and_plan():
-    failures, tried = doctest.testmod(importlib.import_module("reports.exports"))
+    module = importlib.import_module("clearance.reports.exports.envelopes")
+    failures, tried = doctest.testmod(module)
     assert tried > 0 and failures == 0
 
 
@@ -346,7 +352,7 @@ DXF_SCRIPT = """
 import sys
 sys.path.insert(0, sys.argv[2])
 from test_exports import records
-from reports.export_dxf import write_dxf
+from clearance.reports.exports.dxf import write_dxf
 write_dxf(sys.argv[1], records())
 """
 
@@ -378,8 +384,8 @@ def test_dxf_layer_names_are_sanitised():
     assert dxf_layer_name("Bus 12 m") == "Bus 12 m"
 
 
-@pytest.mark.parametrize("name", ["reports.export_sumo", "reports.export_dxf",
-                                  "reports.export_geojson"])
+@pytest.mark.parametrize("name", ["clearance.reports.exports.sumo", "clearance.reports.exports.dxf",
+                                  "clearance.reports.exports.geojson"])
 def test_docstring_examples(name: str):
     failures, tried = doctest.testmod(importlib.import_module(name))
     assert tried > 0 and failures == 0
@@ -418,5 +424,5 @@ def test_geojson_and_dxf_mark_the_worst_overreach_as_a_point(tmp_path: Path):
 def test_an_overreach_that_is_not_four_finite_numbers_is_refused(tmp_path: Path):
     bad = records()
     bad[1] = dataclasses.replace(bad[1], overreach=(1.0, math.nan, 2.0, 0.1))
-    with pytest.raises(InputError, match="overreach must be four finite numbers"):
+    with pytest.raises(ValueError, match="overreach must be four finite numbers"):
         write_geojson(tmp_path / "a.geojson", bad, {"intersection": LOCAL})

@@ -8,14 +8,14 @@ import math
 import pytest
 import shapely
 
-from analysis.clearance import Areas, classify
-from analysis.turning import turning_metrics
-from networks.curves import extract_curves
-from networks.reader import read_network
-from reports.batch import Batch, detached, run_batch
-from reports.cmd_report import envelope_records, sample_networks
-from reports.export_geojson import origin_transformer, write_geojson
-from reports.feedback import (
+from clearance.analysis.clearance import Areas, classify
+from clearance.analysis.turning import turning_metrics
+from clearance.networks.curves import extract_curves
+from clearance.networks.reader import read_network
+from clearance.networks.samples.build import sample_networks
+from clearance.reports.exports.geojson import origin_transformer, write_geojson
+from clearance.reports.exports.study import envelope_records
+from clearance.reports.results.feedback import (
     ENCROACHING,
     not_served_below,
     serves,
@@ -23,8 +23,9 @@ from reports.feedback import (
     set_serves_up_to,
     size_order,
 )
-from reports.study import NetworkCurves, Study
-from vehicles.table import bundled_table, load_tables
+from clearance.reports.study.batch import Batch, detached, run_batch
+from clearance.reports.study.run import NetworkCurves, Study
+from clearance.vehicles.table import bundled_table, load_tables
 
 NET = next(p for p in sample_networks() if p.stem.startswith("intersection"))
 VEHICLES = ["WB-62", "P", "SU-30"]  # not in size order: the order is the tool's
@@ -33,7 +34,7 @@ VEHICLES = ["WB-62", "P", "SU-30"]  # not in size order: the order is the tool's
 @pytest.fixture(scope="module")
 def study():
     """Junction T of the sample intersection with P, SU-30 and WB-62 (model only, in this
-    process), as :func:`reports.study.run_study` completes it."""
+    process), as :func:`clearance.reports.study.run.run_study` completes it."""
     net = read_network(NET)
     curves = [detached(c) for c in extract_curves(net) if c.junction == "T"]
     table = load_tables([bundled_table("aashto_green_book")], VEHICLES)

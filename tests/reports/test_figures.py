@@ -6,15 +6,21 @@ import numpy as np
 import pytest
 import shapely
 
-from networks.plot import pavement_area
-from networks.reader import read_network
-from networks.selection import Selection
-from reports.cmd_report import sample_networks
-from reports.drawing import draw_curve, overreach
-from reports.figures import plot_curve, shown_runs
-from reports.plotting import PALETTE, add_scale_bar, new_figure, plan_axes, vehicle_colours
-from reports.study import run_study
-from vehicles.table import bundled_table_paths, load_tables
+from clearance.networks.plot import pavement_area
+from clearance.networks.reader import read_network
+from clearance.networks.samples.build import sample_networks
+from clearance.networks.selection import Selection
+from clearance.reports.documents.drawing import draw_curve, overreach
+from clearance.reports.documents.figures import plot_curve, shown_runs
+from clearance.reports.documents.plotting import (
+    PALETTE,
+    add_scale_bar,
+    new_figure,
+    plan_axes,
+    vehicle_colours,
+)
+from clearance.reports.study.run import run_study
+from clearance.vehicles.table import bundled_table_paths, load_tables
 
 NET = next(p for p in sample_networks() if p.stem.startswith("intersection"))
 

@@ -10,11 +10,11 @@ import re
 
 import pytest
 
-from networks.samples import build as samples
-from reports import file_names
-from reports.atomic import write_text_atomic
-from reports.cli import main
-from reports.file_names import MAX_NAME_BYTES, file_name
+from clearance.networks.samples import build as samples
+from clearance.reports.cli.main import main
+from clearance.reports.output import file_names
+from clearance.reports.output.atomic import write_text_atomic
+from clearance.reports.output.file_names import MAX_NAME_BYTES, file_name
 
 # 250 characters, with the characters of real OSM-derived ids and some worse
 LONG_ID = ("roundabout:cluster_25#3:/" + "ab#12/-3:>" * 23)[:250]

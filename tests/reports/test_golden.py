@@ -7,10 +7,10 @@ from pathlib import Path
 import pandas as pd
 import pytest
 
-from networks.samples.build import SAMPLES_DIR
-from networks.selection import Selection
-from reports.golden import compare, golden_text, read_golden, relevant
-from vehicles.errors import InputError
+from clearance.networks.samples.build import SAMPLES_DIR
+from clearance.networks.selection import Selection
+from clearance.reports.results.golden import compare, golden_text, read_golden, relevant
+from clearance.vehicles.errors import InputError
 
 #: Ids as SUMO writes them for OpenStreetMap networks (issue 13), and worse.
 ODD_IDS = ["turn:123:156775056#13_0->-27149243_1", "roundabout:a40:a77[0]_0->a21a_0",

@@ -9,13 +9,13 @@ import gzip
 import math
 import os
 import subprocess
-import sys
 from pathlib import Path
 
 import pytest
 
-from networks.samples.sources import SAMPLES_DIR
-from reports.cli import main
+from clearance.networks.samples.sources import SAMPLES_DIR
+from clearance.reports.cli.main import main
+from tests.cli import CLI
 from tests.networks import damaged
 
 REPO = Path(__file__).resolve().parents[2]
@@ -37,7 +37,7 @@ def refused(capsys, argv: list[str], *expected: str) -> str:
 def run_cli(argv: list[str], env: dict[str, str] | None = None,
             timeout: float = 30) -> subprocess.CompletedProcess:
     """The CLI in its own process, which cannot hang the tests (``timeout`` s)."""
-    return subprocess.run([sys.executable, "-m", "reports.cli", *argv], capture_output=True,
+    return subprocess.run([*CLI, *argv], capture_output=True,
                           text=True, timeout=timeout, cwd=REPO,
                           env={**os.environ, **(env or {})}, check=False)
 
@@ -204,7 +204,7 @@ def test_ids_with_xml_characters_are_the_networks_own(tmp_path, capsys):
     # they were read as `&#38;`: SUMO refused the route ("Unknown edge") and the runs were errors
     import sumolib
 
-    from networks.reader import read_network
+    from clearance.networks.reader import read_network
 
     net = read_network(HOSTILE_IDS)
     theirs = sumolib.net.readNet(str(HOSTILE_IDS), withInternal=True)
@@ -260,10 +260,10 @@ def test_a_network_drawn_10000_times_too_small_is_not_driven(tmp_path, capsys, c
 
 
 def test_a_run_that_sweeps_nothing_is_never_clear(tmp_path):
-    from networks.curves import CurveOptions, extract_curves
-    from networks.reader import read_network
-    from networks.sumo.driver import DriveOptions, drive
-    from vehicles.table import bundled_table, load_tables
+    from clearance.networks.curves import CurveOptions, extract_curves
+    from clearance.networks.driving.drive import DriveOptions, drive
+    from clearance.networks.reader import read_network
+    from clearance.vehicles.table import bundled_table, load_tables
 
     net = read_network(_tiny(tmp_path))
     curves = extract_curves(net, options=CurveOptions(approach_length_m=30.0))

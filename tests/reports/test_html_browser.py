@@ -14,8 +14,8 @@ from pathlib import Path
 
 import pytest
 
-from reports.cli import main
-from reports.cmd_report import sample_networks
+from clearance.networks.samples.build import sample_networks
+from clearance.reports.cli.main import main
 
 CHROMIUM = Path("/usr/bin/chromium")
 ARGS = ["--headless", "--no-sandbox", "--disable-gpu", "--disable-background-networking",

@@ -7,14 +7,14 @@ import hashlib
 import os
 import signal
 import subprocess
-import sys
 import time
 from pathlib import Path
 
 import pytest
 
-import reports.lifetime
-from networks.samples.sources import SAMPLES_DIR
+import clearance.reports.study.lifetime
+from clearance.networks.samples.sources import SAMPLES_DIR
+from tests.cli import CLI
 
 REPO = Path(__file__).resolve().parents[2]
 INTERSECTION = SAMPLES_DIR / "intersection" / "intersection.net.xml"
@@ -22,7 +22,7 @@ BOLOGNA = REPO.parent / "shared" / "realnets" / "bologna_joined.net.xml.gz"
 
 
 def test_doctests():
-    assert doctest.testmod(reports.lifetime).failed == 0
+    assert doctest.testmod(clearance.reports.study.lifetime).failed == 0
 
 
 def _session(sid: int) -> list[int]:
@@ -49,7 +49,7 @@ def _digest(folder: Path) -> str:
 @pytest.fixture(scope="module")
 def made(tmp_path_factory: pytest.TempPathFactory) -> Path:
     out = tmp_path_factory.mktemp("made") / "out"
-    subprocess.run([sys.executable, "-m", "reports.cli", "report", "-n", str(INTERSECTION),
+    subprocess.run([*CLI, "report", "-n", str(INTERSECTION),
                     "--vehicle", "P", "--workers", "1", "-o", str(out)], cwd=REPO,
                    check=True, capture_output=True, timeout=120)
     return out
@@ -67,7 +67,7 @@ def _start(out: Path) -> subprocess.Popen[bytes]:
     """A report into ``out`` with two workers, in a session of its own, once it runs."""
     net = BOLOGNA if BOLOGNA.is_file() else INTERSECTION
     proc = subprocess.Popen(
-        [sys.executable, "-m", "reports.cli", "report", "-n", str(net), "--vehicle", "P",
+        [*CLI, "report", "-n", str(net), "--vehicle", "P",
          "--vehicle", "CITY-BUS", "--vehicle", "WB-62", "--workers", "2", "-o", str(out)],
         cwd=REPO, start_new_session=True, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE,
         preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
@@ -122,7 +122,7 @@ def test_after_sigkill_the_workers_end_and_the_next_run_takes_over(previous):
     assert _digest(previous) == before
     left = _leftovers(previous)
     assert any(n.endswith(".lock") for n in left) and any(".new-" in n for n in left)
-    again = subprocess.run([sys.executable, "-m", "reports.cli", "report", "-n",
+    again = subprocess.run([*CLI, "report", "-n",
                             str(INTERSECTION), "--vehicle", "SU-30", "--workers", "1", "-o",
                             str(previous)], cwd=REPO, capture_output=True, text=True,
                            timeout=120)

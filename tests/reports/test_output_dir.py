@@ -14,12 +14,13 @@ from pathlib import Path
 
 import pytest
 
-from networks.samples import build as samples
-from reports import cmd_simulate, output_dir
-from reports.cli import main
-from reports.output_dir import Layout, foreign_entries, marker_name, output_folder
-from vehicles.errors import InputError
-from vehicles.table import bundled_table
+from clearance.networks.samples import build as samples
+from clearance.reports.cli.main import main
+from clearance.reports.output import output_dir
+from clearance.reports.output.output_dir import Layout, foreign_entries, marker_name, output_folder
+from clearance.reports.results import simulate_files
+from clearance.vehicles.errors import InputError
+from clearance.vehicles.table import bundled_table
 
 DEMO = Layout("demo", files=frozenset({"a.txt", "b.txt"}), folders={"sub": (".csv",)},
               signature=("a.txt", "demo,"))
@@ -244,7 +245,7 @@ LOCK_HOLDER = """
 import sys, time
 sys.path.insert(0, sys.argv[2])
 from test_output_dir import DEMO
-from reports.output_dir import output_folder
+from clearance.reports.output.output_dir import output_folder
 with output_folder(sys.argv[1], DEMO) as staging:
     (staging / "a.txt").write_text("demo,half\\n")
     print(staging, flush=True)
@@ -330,7 +331,7 @@ def test_a_second_simulate_failing_while_writing_leaves_the_first(previous, monk
     def fail(*args, **kwargs):  # after the trajectories, before results.csv
         raise error
 
-    monkeypatch.setattr(cmd_simulate, "write_geojson", fail)
+    monkeypatch.setattr(simulate_files, "write_geojson", fail)
     assert main([*SIMULATE, "--curve", CURVES[1], "-o", str(out)]) == status
     assert "Traceback" not in capsys.readouterr().err
     assert tree(out) == files  # no trajectory of the second run beside the first's results

@@ -9,7 +9,7 @@ from pathlib import Path
 
 import pytest
 
-from reports.cli import COMMANDS, build_parser
+from clearance.reports.cli.main import COMMANDS, build_parser
 
 ROOT = Path(__file__).resolve().parents[2]
 README = (ROOT / "README.md").read_text(encoding="utf-8")

@@ -17,10 +17,10 @@ import pyproj
 import pytest
 import sumo
 
-from networks.reader import read_network
-from reports.cli import main
-from reports.cmd_report import sample_networks
-from reports.study import COLUMNS
+from clearance.networks.reader import read_network
+from clearance.networks.samples.build import sample_networks
+from clearance.reports.cli.main import main
+from clearance.reports.study.run import COLUMNS
 
 NET = next(p for p in sample_networks() if p.stem.startswith("intersection"))
 VEHICLES = ["P", "CITY-BUS"]
@@ -403,7 +403,11 @@ def test_waivers_and_a_selection(tmp_path):
 def test_embedded_figures_are_compact_copies(report):
     from PIL import Image
 
-    from reports.html_images import HTML_IMAGE_COLOURS, HTML_IMAGE_WIDTH_PX, compact_png
+    from clearance.reports.documents.html_images import (
+        HTML_IMAGE_COLOURS,
+        HTML_IMAGE_WIDTH_PX,
+        compact_png,
+    )
 
     text = (report / "report.html").read_text()
     embedded = re.findall(r'src="data:image/png;base64,([^"]+)"', text)
@@ -425,10 +429,10 @@ def test_embedded_figures_are_compact_copies(report):
 def test_a_report_drawn_in_workers_is_the_one_drawn_here(tmp_path):
     """The curve figures, sheets and exports drawn in worker processes (clearance report)
     are the same files, byte for byte, as those drawn in the report's own process."""
-    from reports.cmd_report import write_report
-    from reports.executor import LocalExecutor
-    from reports.study import run_study
-    from vehicles.table import bundled_table_paths, load_tables
+    from clearance.reports.documents.writer import write_report
+    from clearance.reports.study.executor import LocalExecutor
+    from clearance.reports.study.run import run_study
+    from clearance.vehicles.table import bundled_table_paths, load_tables
 
     tables = bundled_table_paths()
     with LocalExecutor(2) as ex:

@@ -6,11 +6,11 @@ from pathlib import Path
 
 import pytest
 
-from networks.selection import Selection
-from reports.cmd_report import sample_networks
-from reports.drawing import Shown, view_bounds
-from reports.figures import shown_runs
-from reports.sheets import (
+from clearance.networks.samples.build import sample_networks
+from clearance.networks.selection import Selection
+from clearance.reports.documents.drawing import Shown, view_bounds
+from clearance.reports.documents.figures import shown_runs
+from clearance.reports.documents.sheets import (
     FRAME_MM,
     MAX_SHEETS,
     PAPER_MM,
@@ -22,8 +22,8 @@ from reports.sheets import (
     vehicle_rows,
     write_sheets,
 )
-from reports.study import run_study
-from vehicles.table import bundled_table_paths, load_tables
+from clearance.reports.study.run import run_study
+from clearance.vehicles.table import bundled_table_paths, load_tables
 
 NET = next(p for p in sample_networks() if p.stem.startswith("intersection"))
 VEHICLES = ["P", "WB-67"]
@@ -131,7 +131,7 @@ def test_rerun_for_the_drawing_gives_the_studys_verdict_and_margin(study):
 
 
 def test_clearance_report_writes_the_sheets_into_its_folder(tmp_path):
-    from reports.cli import main
+    from clearance.reports.cli.main import main
 
     out = tmp_path / "rep"
     args = ["report", "-n", str(NET), "-o", str(out), "--vehicle", "P", "--junction", "T",

@@ -6,10 +6,10 @@ from pathlib import Path
 
 import pytest
 
-from networks.selection import Selection
-from reports.study import APPROACH_M, run_study
-from reports.tables import summary
-from vehicles.table import bundled_table, load_tables
+from clearance.networks.selection import Selection
+from clearance.reports.results.tables import summary
+from clearance.reports.study.run import APPROACH_M, run_study
+from clearance.vehicles.table import bundled_table, load_tables
 
 #: ../shared/realnets from the repository root (a worktree sits one level deeper)
 REALNETS = [Path(__file__).resolve().parents[n] / "shared" / "realnets" for n in (3, 4)]
@@ -38,7 +38,7 @@ def test_curves_a_vehicle_may_not_use_are_not_permitted_never_run(tmp_path, bus_
     assert sum(s["verdicts"].values()) == 3
     # a table with no vehicle allowed on the bus street: its curve has no verdict, and the
     # plan figure leaves it out instead of failing
-    from reports.figures import plot_network
+    from clearance.reports.documents.figures import plot_network
 
     cars = run_study([net], load_tables([bundled_table("aashto_green_book")], names=["P"]),
                      method="analytic")
@@ -73,7 +73,7 @@ def test_a_vehicles_verdicts_do_not_depend_on_the_others_in_the_table():
 
 
 def test_batch_sizes_shrink_toward_the_end_and_cover_every_run():
-    from reports.study import BATCH_RUNS, MIN_BATCH_RUNS, batch_sizes
+    from clearance.reports.study.run import BATCH_RUNS, MIN_BATCH_RUNS, batch_sizes
 
     for runs, workers in [(6000, 2), (6000, 1), (1000, 4), (73, 2), (1, 1)]:
         sizes = list(batch_sizes(runs, workers))

@@ -13,27 +13,28 @@ import pandas as pd
 import pytest
 import shapely
 
-from analysis.clearance import Areas, Clearance, classify, worst_level
-from analysis.feature import feature_mask, feature_reason
-from analysis.levels import Level
-from analysis.overreach import Overreach
-from analysis.path_search import Candidate, swing_reason
-from analysis.polyline import prepare_path
-from analysis.tracking import simulate
-from networks.elevation import repair_suspect_heights
-from networks.samples import build as samples
-from networks.selection import Selection
-from reports.cli import main
-from reports.feedback import overreach_words
-from reports.records import COLUMNS
-from reports.study import run_study
-from reports.tables import clearance_csv
-from reports.units import text_in_units, to_output_units
-from reports.vertical import vertical_words
-from vehicles.errors import InputError
-from vehicles.schema import FOOT_M
-from vehicles.table import load_tables
-from vehicles.vehicle import Vehicle
+from clearance.analysis.clearance import Areas, Clearance, classify, worst_level
+from clearance.analysis.feature import feature_mask, feature_reason
+from clearance.analysis.levels import Level
+from clearance.analysis.overreach import Overreach
+from clearance.analysis.polyline import prepare_path
+from clearance.analysis.tracking import simulate
+from clearance.networks.driving.candidates import Candidate
+from clearance.networks.driving.judging import swing_reason
+from clearance.networks.elevation import repair_suspect_heights
+from clearance.networks.samples import build as samples
+from clearance.networks.selection import Selection
+from clearance.reports.cli.main import main
+from clearance.reports.results.feedback import overreach_words
+from clearance.reports.results.records import COLUMNS
+from clearance.reports.results.tables import clearance_csv
+from clearance.reports.results.units import text_in_units, to_output_units
+from clearance.reports.results.vertical import vertical_words
+from clearance.reports.study.run import run_study
+from clearance.vehicles.errors import InputError
+from clearance.vehicles.schema import FOOT_M
+from clearance.vehicles.table import load_tables
+from clearance.vehicles.vehicle import Vehicle
 
 NUMBER = re.compile(r"\d+(?:\.\d+)?")
 #: A metre length left in a text: a digit, a space, ``m`` as a word (not ``m/s``, ``m²``).
@@ -99,7 +100,7 @@ def produced_reasons() -> list[str]:
                              Clearance("fails", -0.4, -0.3, None, 0.0, "leaves"))]).reason)
     run = simulate(CAR, [(0.0, 0.0), (20.0, 0.0), (20.0, 3.0), (0.0, 3.0)])
     out += [run.reason, feature_reason(run, feature_mask(run, (15.0, 30.0)))]
-    from networks.model import Edge, Lane, Location, Network
+    from clearance.networks.model import Edge, Lane, Location, Network
 
     line = np.array([[0, 0, 40.0], [50, 0, 40.2], [122, 0, 218], [200, 0, 40.6]])
     net = Network("n", {"m_0": Lane("m_0", "m", 0, 3.5, "normal", frozenset(), line, 200, 9)},

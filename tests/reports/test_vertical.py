@@ -9,13 +9,13 @@ from pathlib import Path
 
 import pytest
 
-from networks.curves import extract_curves
-from networks.reader import read_network
-from networks.sumo.tools import find_sumo_binary, netconvert_plain
-from reports.cli import main
-from reports.records import COLUMNS
-from reports.vertical import grade_limit_pct, vertical_check, vertical_words
-from vehicles.table import load_tables
+from clearance.networks.curves import extract_curves
+from clearance.networks.reader import read_network
+from clearance.networks.sumo.tools import find_sumo_binary, netconvert_plain
+from clearance.reports.cli.main import main
+from clearance.reports.results.records import COLUMNS
+from clearance.reports.results.vertical import grade_limit_pct, vertical_check, vertical_words
+from clearance.vehicles.table import load_tables
 
 CARS = "\n".join([
     "name,category,units,length,width,wheelbase,front_overhang,max_steer_deg,"

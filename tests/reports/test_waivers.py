@@ -4,8 +4,8 @@ from __future__ import annotations
 
 import pytest
 
-from reports.waivers import WAIVABLE, Waiver, apply_waivers, read_waivers
-from vehicles.errors import InputError
+from clearance.reports.results.waivers import WAIVABLE, Waiver, apply_waivers, read_waivers
+from clearance.vehicles.errors import InputError
 
 VEHICLES = ["P", "WB-62", "2008 Chrysler Town & Country"]
 HEAD = "curve_id,vehicle,verdict,reason\n"

@@ -8,9 +8,9 @@ from pathlib import Path
 
 import pytest
 
-from vehicles.errors import TableError
-from vehicles.schema import ALL_COLUMNS, FOOT_M, Column
-from vehicles.table import load_tables
+from clearance.vehicles.errors import TableError
+from clearance.vehicles.schema import ALL_COLUMNS, FOOT_M, Column
+from clearance.vehicles.table import load_tables
 
 BASE = {"name": "A", "category": "car", "units": "m", "length": "12", "width": "1.8",
         "wheelbase": "2.7", "front_overhang": "0.9", "source": "test", "max_steer_deg": "35"}

@@ -3,8 +3,8 @@
 import numpy as np
 import pytest
 
-from vehicles.errors import InputError
-from vehicles.sensor import SteeringSensor
+from clearance.vehicles.errors import InputError
+from clearance.vehicles.sensor import SteeringSensor
 
 # The start and end of the ERTS table (angle, reading), with its offset.
 ERTS = [(-72, -42181), (-72, -42025), (-71, -41869), (-71, -41713), (-1, -7397), (0, -7290),

@@ -6,8 +6,8 @@ import warnings
 import numpy as np
 import pytest
 
-from vehicles.errors import InputError
-from vehicles.steering import (
+from clearance.vehicles.errors import InputError
+from clearance.vehicles.steering import (
     Breakpoints,
     RackPinion,
     Steering,

@@ -5,10 +5,10 @@ from pathlib import Path
 
 import pytest
 
+from clearance.vehicles.errors import InputError, TableError
+from clearance.vehicles.schema import ALL_COLUMNS
+from clearance.vehicles.table import bundled_table, bundled_table_paths, load_tables
 from tests.timeouts import within
-from vehicles.errors import InputError, TableError
-from vehicles.schema import ALL_COLUMNS
-from vehicles.table import bundled_table, bundled_table_paths, load_tables
 
 FT = 0.3048
 HEADER = "name,category,units,length,width,wheelbase,front_overhang,source"
@@ -144,6 +144,14 @@ def test_negative_rear_overhang(tmp_path):
     p = write(tmp_path, HEADER + ",max_steer_deg\nA,car,m,3.0,1.8,2.7,0.9,test,35\n")
     (msg,) = problems_of(p)
     assert "column length" in msg and "rear overhang comes out -0.6" in msg
+
+
+def test_a_rear_steered_vehicle_with_a_trailer_is_a_table_problem(tmp_path):
+    # the tracking model cannot tow from a steered axle: the table says so, naming the row
+    p = write(tmp_path, HEADER + ",curb_to_curb,hitch_offset,trailer_wheelbase,steered_axle"
+              "\nRS,truck,m,16,2.5,5,1.2,test,25,0,8,rear\n")
+    (msg,) = problems_of(p)
+    assert ":2 (RS): column steered_axle" in msg and "trailer is not supported" in msg
 
 
 def test_two_lock_columns_that_disagree(tmp_path):
@@ -362,7 +370,7 @@ def test_a_name_or_a_table_given_twice_is_taken_once(tmp_path):
 from hypothesis import HealthCheck, given, settings  # noqa: E402
 from hypothesis import strategies as st  # noqa: E402
 
-from vehicles.schema import OPTIONAL, REQUIRED, TRAILER  # noqa: E402
+from clearance.vehicles.schema import OPTIONAL, REQUIRED, TRAILER  # noqa: E402
 
 _NUMBERS = st.one_of(
     st.floats(allow_nan=True, allow_infinity=True).map(repr),

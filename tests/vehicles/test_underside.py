@@ -6,9 +6,9 @@ import math
 
 import pytest
 
-from vehicles.errors import TableError
-from vehicles.table import bundled_table, load_tables
-from vehicles.underside import DEFAULT_CLEARANCE_M, underside_from
+from clearance.vehicles.errors import TableError
+from clearance.vehicles.table import bundled_table, load_tables
+from clearance.vehicles.underside import DEFAULT_CLEARANCE_M, underside_from
 
 
 def test_hummer_h3_carries_its_published_figures():

@@ -4,11 +4,11 @@ from __future__ import annotations
 
 import pytest
 
-from networks.loading import load_network, load_networks
-from networks.samples.sources import SAMPLES_DIR
-from networks.sumo.load_check import SumoLoadCheck
+from clearance.networks.loading import load_network, load_networks
+from clearance.networks.samples.sources import SAMPLES_DIR
+from clearance.networks.sumo.load_check import SumoLoadCheck
+from clearance.vehicles.errors import InputError
 from tests.networks import damaged
-from vehicles.errors import InputError
 
 
 @pytest.mark.parametrize("case", sorted(damaged.CASES))

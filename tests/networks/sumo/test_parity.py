@@ -16,7 +16,8 @@ from pathlib import Path
 
 import pytest
 
-from networks.sumo.tools import find_sumo_binary, sumo_home
+from clearance.networks.sumo.tools import find_sumo_binary, sumo_home
+from tests.cli import CLI
 
 REPO = Path(__file__).resolve().parents[3]
 HAND_PICKED = REPO / "tests" / "data" / "sumo_corpus"
@@ -34,7 +35,7 @@ def sumo_loads(net: Path) -> bool:
 
 def curves_exit(net: Path, out: Path) -> tuple[int, str]:
     """``clearance curves -n NET -o OUT`` in its own process: exit status and stderr."""
-    proc = subprocess.run([sys.executable, "-m", "reports.cli", "curves", "-n", str(net),
+    proc = subprocess.run([*CLI, "curves", "-n", str(net),
                            "-o", str(out)], capture_output=True, text=True, timeout=300,
                           cwd=REPO, check=False)
     return proc.returncode, proc.stderr

@@ -1,0 +1,117 @@
+"""Command-line options shared by the sub-commands."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from collections.abc import Callable
+
+from clearance.networks.curves import KINDS
+from clearance.networks.selection import Selection, parse_bbox
+
+__all__ = ["add_clearance_option", "announcer", "add_executor_options", "add_grade_option",
+           "add_lane_only_option",
+           "add_net_option", "add_output_option",
+           "add_selection_options", "add_table_option", "add_units_option", "add_vehicle_option",
+           "add_waivers_option", "selection_of"]
+
+
+def announcer(command: str) -> Callable[[str], None]:
+    """What a command says on stderr before its runs (how many, about how long)."""
+    def say(text: str) -> None:
+        print(f"clearance {command}: {text}", file=sys.stderr, flush=True)
+
+    return say
+
+
+def add_table_option(p: argparse.ArgumentParser) -> None:
+    """``-t/--table TABLE.csv`` (repeatable; default: every bundled table)."""
+    p.add_argument("-t", "--table", action="append", metavar="TABLE.csv",
+                   help="vehicle table (repeatable); default: every bundled table")
+
+
+def add_vehicle_option(p: argparse.ArgumentParser, required: bool = False,
+                       help: str = "only this vehicle (repeatable)") -> None:
+    """``--vehicle NAME`` (repeatable)."""
+    p.add_argument("--vehicle", action="append", metavar="NAME", required=required, help=help)
+
+
+def add_units_option(p: argparse.ArgumentParser, help: str = "output length units") -> None:
+    """``--units m|ft`` (default metres)."""
+    p.add_argument("--units", choices=("m", "ft"), default="m", help=help)
+
+
+def add_clearance_option(p: argparse.ArgumentParser) -> None:
+    """``--clearance M``: the offset the swept envelope is grown by (default 0 m)."""
+    p.add_argument("--clearance", type=float, default=0.0, metavar="M",
+                   help="clearance offset the swept envelope is grown by (m, default 0)")
+
+
+def add_grade_option(p: argparse.ArgumentParser) -> None:
+    """``--max-grade-pct PCT``: a grade limit for every vehicle (runs above it are
+    ``too-steep``; a vehicle's own ``grade_limit_pct`` applies too, the lower counting)."""
+    p.add_argument("--max-grade-pct", type=float, default=None, metavar="PCT",
+                   help="grade limit for every vehicle (percent): a run on a steeper curve "
+                        "is too-steep; a vehicle's table column grade_limit_pct applies too")
+
+
+def add_lane_only_option(p: argparse.ArgumentParser) -> None:
+    """``--lane-only``: judge every run on its lane's centre line, search no swung paths."""
+    p.add_argument("--lane-only", action="store_true",
+                   help="judge every run on its lane's centre line only: no swung paths "
+                        "for the runs that do not clear there (simulate method)")
+
+
+def add_executor_options(p: argparse.ArgumentParser) -> None:
+    """``--workers N`` and ``--scheduler ADDRESS``: where a study's runs are driven."""
+    p.add_argument("--workers", type=int, default=None, metavar="N",
+                   help="worker processes on this machine (default: one per core)")
+    p.add_argument("--scheduler", metavar="ADDRESS", default=None,
+                   help="run on a Dask cluster: the scheduler's address (tcp://HOST:8786); "
+                        "needs pip install 'sumo-clearance[cluster]'")
+
+
+def add_selection_options(p: argparse.ArgumentParser,
+                          kinds_default: str = "the kinds a study extracts") -> None:
+    """``--kind KIND``, ``--junction ID`` (both repeatable) and ``--bbox XMIN,YMIN,XMAX,YMAX``:
+    only the curves of one scheme (see :mod:`clearance.networks.selection`)."""
+    p.add_argument("--kind", action="append", choices=KINDS, metavar="KIND",
+                   help=f"only curves of this kind (repeatable; one of {', '.join(KINDS)}; "
+                        f"default: {kinds_default})")
+    p.add_argument("--junction", action="append", metavar="ID",
+                   help="only curves whose junction is ID (repeatable)")
+    p.add_argument("--bbox", metavar="XMIN,YMIN,XMAX,YMAX",
+                   help="only curves whose feature meets this box (network coordinates, m; "
+                        "write --bbox=XMIN,... when XMIN is negative)")
+
+
+def selection_of(args: argparse.Namespace) -> Selection:
+    """The :class:`~clearance.networks.selection.Selection` of :func:`add_selection_options`'
+    options
+    (bad values raise :class:`~clearance.vehicles.errors.InputError`)."""
+    return Selection(kinds=tuple(dict.fromkeys(args.kind or ())),
+                     junctions=tuple(dict.fromkeys(args.junction or ())),
+                     bbox=parse_bbox(args.bbox) if args.bbox is not None else None)
+
+
+def add_waivers_option(p: argparse.ArgumentParser) -> None:
+    """``--waivers FILE``: accepted verdicts (see :mod:`clearance.reports.results.waivers`)."""
+    p.add_argument("--waivers", metavar="WAIVERS.csv",
+                   help="CSV of accepted verdicts: curve_id (or glob), vehicle (or *), "
+                        "verdict, reason; waived runs are shown as such and pass check")
+
+
+def add_net_option(p: argparse.ArgumentParser, repeatable: bool = False,
+                   required: bool = False, help: str = ".net.xml or .net.xml.gz",
+                   **kwargs) -> None:
+    """``-n/--net/--net-file NET`` (SUMO's name beside ours); repeatable for a study."""
+    p.add_argument("-n", "--net", "--net-file", dest="net", metavar="NET", required=required,
+                   action="append" if repeatable else "store", help=help, **kwargs)
+
+
+def add_output_option(p: argparse.ArgumentParser, folder: bool, metavar: str, help: str,
+                      **kwargs) -> None:
+    """``-o/--output/--output-file`` (SUMO's name beside ours), and ``--output-dir`` when
+    the output is a folder."""
+    names = ["-o", "--output", "--output-file"] + (["--output-dir"] if folder else [])
+    p.add_argument(*names, dest="output", metavar=metavar, help=help, **kwargs)

@@ -1,0 +1,292 @@
+"""The figures, sheets and exports of a report, drawn in the study's worker processes.
+
+Each :class:`Drawing` is one task a worker draws and sends back as files (bytes by their
+paths relative to the report); :class:`Drawings` submits them while the report's process
+builds the documents, draws again alone those whose worker died
+(:func:`clearance.reports.study.executor.run_isolated`), and says in the documents what a
+drawing lost for good was to show."""
+
+from __future__ import annotations
+
+import logging
+import tempfile
+from collections.abc import Callable
+from concurrent.futures import Future
+from concurrent.futures.process import BrokenProcessPool
+from dataclasses import dataclass, replace
+from pathlib import Path
+from typing import Any, Literal
+
+from clearance.networks.curves import Curve
+from clearance.reports.documents.figures import (
+    CurveFigure,
+    draw_curve_figure,
+    scratch_files,
+    worst_by_curve,
+)
+from clearance.reports.documents.html_images import COMPACT_MADE, compact_key, compact_png
+from clearance.reports.documents.report import Section
+from clearance.reports.exports.study import (
+    DRAWN_RUNS,
+    drawn_geometry,
+    envelope_records,
+    export_names,
+    georeferenced,
+    write_network_exports,
+)
+from clearance.reports.output.atomic import write_bytes_atomic
+from clearance.reports.output.file_names import file_name
+from clearance.reports.results.records import RunRecord
+from clearance.reports.study.batch import bare, with_areas, worker_network
+from clearance.reports.study.executor import (
+    Executor,
+    SharedFile,
+    WorkerLost,
+    run_isolated,
+)
+from clearance.reports.study.run import (
+    NetworkCurves,
+    Study,
+)
+
+__all__ = ["COMPACT", "Drawing", "Drawings", "NetworkTask", "curve_figure_files", "draw",
+           "network_exports", "network_sheets_pdf", "network_tasks"]
+
+log = logging.getLogger(__name__)
+
+
+@dataclass(frozen=True)
+class NetworkTask:
+    """One network's part of a report, to write in a worker: its records, the curves the
+    part draws (without their areas, :func:`clearance.reports.study.batch.bare`), what else it
+    needs."""
+
+    network: str
+    path: str
+    curves: tuple[Curve, ...]
+    records: tuple[RunRecord, ...]
+    study: Study  # table, method, clearance (no records, no networks)
+    tables: tuple[str, ...] = ()
+    units: str = "m"
+    names: tuple[tuple[str, str], ...] = ()
+    origin: tuple[float, float] | None = None
+
+    def local(self, shared: SharedFile) -> Study:
+        """The task's study in this process: its records, its network and curves (with
+        their areas built here)."""
+        net = worker_network(shared)
+        curves = list(self.curves)
+        with_areas(net, curves)
+        # the file as this worker has it (on a cluster maybe a copy under another folder)
+        nc = NetworkCurves(self.network, Path(net.path), net, curves)
+        return Study(list(self.records), [nc], self.study.table, self.study.method,
+                     self.study.clearance_m)
+
+
+def network_exports(task: NetworkTask, shared: SharedFile) -> dict[str, bytes]:
+    """One network's exports (:func:`write_exports`), as files relative to the report."""
+    study = task.local(shared)
+    names = dict(task.names)
+    recs = envelope_records(study, drawn_geometry(study))
+    return scratch_files(lambda root: write_network_exports(
+        root / "exports", recs, study.networks[0], names, task.origin))
+
+
+def network_sheets_pdf(task: NetworkTask, shared: SharedFile) -> dict[str, bytes]:
+    """One network's sheets (:func:`clearance.reports.documents.sheets.write_sheets`), as files
+    relative to
+    the report."""
+    from clearance.reports.documents.sheets import write_sheets
+
+    study = task.local(shared)
+    return scratch_files(lambda root: write_sheets(study, root / "sheets",
+                                                   [Path(t) for t in task.tables], task.units))
+
+
+#: The name under which a task's files carry the compact copy of a PNG for the HTML
+#: (:func:`clearance.reports.documents.html_images.compact_png`): this prefix and the copy's key.
+COMPACT = "compact:"
+
+
+def curve_figure_files(task: CurveFigure, shared: SharedFile) -> dict[str, bytes]:
+    """A curve figure's files (:func:`clearance.reports.documents.figures.draw_curve_figure`) and
+    the compact
+    copy of its PNG that report.html embeds (made here, where the PNG is)."""
+    files = draw_curve_figure(task, shared)
+    for rel in [r for r in files if r.endswith(".png")]:
+        key = compact_key(files[rel])
+        with tempfile.TemporaryDirectory(prefix="clearance-compact-") as tmp:
+            png = Path(tmp) / "figure.png"
+            png.write_bytes(files[rel])
+            files[COMPACT + key] = compact_png(png)
+    return files
+
+
+@dataclass(frozen=True)
+class Drawing:
+    """One drawing task of a report: ``fn(task, shared)`` in a worker returns its files by
+    their paths relative to the report (:func:`draw`). ``part`` and ``what`` say what the
+    report lacks when it is lost: a curve's figure (``curve_id``), a network's sheets or
+    its exports."""
+
+    fn: Callable[[Any, SharedFile], dict[str, bytes]]
+    task: Any
+    network: str
+    part: Literal["figure", "sheets", "exports"]
+    what: str  # e.g. "sheets (sheets/NET.pdf)"
+    curve_id: str = ""
+
+
+def draw(drawing: Drawing, shared: SharedFile) -> dict[str, bytes]:
+    """Draw ``drawing`` in this process: its files by their paths relative to the report."""
+    return drawing.fn(drawing.task, shared)
+
+
+def _cannot_split(drawing: Drawing) -> tuple[Drawing, ...]:
+    return ()  # a drawing is one task: one that crashes its worker alone is lost
+
+
+class Drawings:
+    """The figures, sheets and exports of a report drawn in the executor's workers.
+
+    Each :class:`Drawing` is submitted as soon as it is known, so the workers draw while
+    the report's process builds the sections; :meth:`finish` waits for them and writes
+    their files under ``folder``. The drawings whose worker died (a crash, out of memory)
+    are drawn again through :func:`clearance.reports.study.executor.run_isolated`; one that kills
+    its worker even alone is lost: warned about, listed in :attr:`lost`, and said in the
+    documents by :meth:`mark_lost`."""
+
+    def __init__(self, executor: Executor, folder: Path) -> None:
+        self.executor, self.folder = executor, folder
+        self._pending: list[tuple[Drawing, str, Future[dict[str, bytes]] | None]] = []
+        self._shared: dict[str, SharedFile] = {}
+        #: The drawings lost, with the reason.
+        self.lost: list[tuple[Drawing, str]] = []
+
+    def submit(self, drawing: Drawing, path: Path) -> None:
+        """Start ``drawing`` in a worker, on its copy of the network at ``path``."""
+        key = str(path)
+        if key not in self._shared:
+            self._shared[key] = self.executor.share(path)
+        try:
+            future = self.executor.submit(draw, drawing, self._shared[key])
+        except BrokenProcessPool:  # a worker died: drawn again by finish
+            future = None
+        self._pending.append((drawing, key, future))
+
+    def curve_figure(self, study: Study, units: str
+                     ) -> Callable[[NetworkCurves, Curve, list[RunRecord], Path], Path]:
+        """A ``draw`` for :func:`clearance.reports.documents.report.build_sections`."""
+        def draw_figure(nc: NetworkCurves, curve: Curve, records: list[RunRecord],
+                        stem: Path) -> Path:
+            rel = stem.relative_to(self.folder).as_posix()
+            task = CurveFigure(nc.name, str(nc.path), bare(curve), tuple(records), rel,
+                               study.table, units)
+            self.submit(Drawing(curve_figure_files, task, nc.name, "figure",
+                                f"figure of curve {curve.curve_id} ({rel}.png, .svg)",
+                                curve.curve_id), nc.path)
+            return Path(f"{stem}.png")
+        return draw_figure
+
+    def finish(self) -> None:
+        """Wait for every drawing and write its files; draw those whose worker died again
+        (:func:`clearance.reports.study.executor.run_isolated`), and give up those that kill it
+        alone."""
+        again: dict[str, list[Drawing]] = {}
+        for drawing, key, future in self._pending:
+            try:
+                files = None if future is None else self.executor.outcome(future)
+            except WorkerLost as exc:
+                log.info("%s: %s: its worker died (%s); drawn again", drawing.network,
+                         drawing.what, exc)
+                files = None
+            if files is None:
+                again.setdefault(key, []).append(drawing)
+            else:
+                self._write(files)
+        self._pending.clear()
+        for key, drawings in again.items():
+            for _, files in run_isolated(self.executor, draw, drawings, _cannot_split,
+                                         self._lose, self._shared[key]):
+                self._write(files)
+
+    def _write(self, files: dict[str, bytes]) -> None:
+        for rel, data in files.items():
+            if rel.startswith(COMPACT):
+                COMPACT_MADE[rel.removeprefix(COMPACT)] = data
+            else:
+                write_bytes_atomic(self.folder / rel, data)
+
+    def _lose(self, drawing: Drawing, reason: str) -> dict[str, bytes]:
+        self.lost.append((drawing, reason))
+        log.warning("%s: %s", drawing.network, _lost_words(drawing.what, reason))
+        return {}
+
+    def mark_lost(self, sections: list[Section], exports: dict[str, dict[str, str]]
+                  ) -> None:
+        """Say in ``sections`` what the lost drawings were to show: a lost figure's curve
+        says so in place of it, a network's lost sheets or exports in a line of the
+        network's part; the lost exports leave ``exports`` (the files report.html lists)."""
+        by_name = {s.name: s for s in sections}
+        for drawing, reason in self.lost:
+            section = by_name[drawing.network]
+            if drawing.part == "figure":
+                for c in section.curves:
+                    if c.curve_id == drawing.curve_id:
+                        c.figure, c.drawn = None, []
+                        c.missing = _lost_words("Figure", reason)
+                continue
+            words = _lost_words(drawing.what, reason)
+            section.lost.append(words[:1].upper() + words[1:])
+            if drawing.part == "exports":
+                exports.pop(drawing.network, None)
+
+
+def _lost_words(what: str, reason: str) -> str:
+    """A lost drawing in words.
+
+    >>> _lost_words("Figure", "killed")
+    'Figure not drawn: the worker process died, also when it drew nothing else (killed).'
+    """
+    return (f"{what} not drawn: the worker process died, also when it drew nothing else "
+            f"({reason}).")
+
+
+def network_tasks(study: Study, tables: list[Path], units: str,
+                   origin: tuple[float, float] | None) -> list[tuple[Drawing, Path]]:
+    """The sheets and exports drawing of every network, with the network's file: each
+    with the network's records and the curves it draws (those of
+    :func:`clearance.reports.documents.sheets.pick_sheets` and of :func:`drawn_geometry`)."""
+    from clearance.reports.documents.sheets import MAX_SHEETS, pick_sheets
+
+    frame = study.frame()
+    head = Study([], [], study.table, study.method, study.clearance_m)
+    out: list[tuple[Drawing, Path]] = []
+    for nc in study.networks:
+        records = tuple(r for r in study.records if r.network == nc.name)
+        by_id = {c.curve_id: c for c in nc.curves}
+        # the sheets' runs pick themselves again from themselves (the worst of each curve
+        # first, then the rest worst first), so they are all the sheets task is sent
+        sheeted = tuple(pick_sheets(records, MAX_SHEETS))
+        sheet_ids = dict.fromkeys(r.curve_id for r in sheeted)
+        f = frame[(frame.network == nc.name) & (frame.verdict != "error")]
+        drawn = (worst_by_curve(f).head(DRAWN_RUNS) if study.method == "simulate"
+                 and not f.empty else f.iloc[:0])
+        drawn_ids = dict.fromkeys(drawn.curve_id)
+        # the exports drive only their drawn runs again: the others' swung lines (tens of
+        # kB each) stay here
+        runs = set(zip(drawn.vehicle, drawn.curve_id, strict=True))
+        exported = tuple(r if r.line is None or (r.vehicle, r.curve_id) in runs
+                         else replace(r, line=None) for r in records)
+        names = tuple(export_names(nc.name, georeferenced(nc, origin)).items())
+        base = NetworkTask(nc.name, str(nc.path), (), records, head, tuple(map(str, tables)),
+                           units, names, origin)
+        sheets = NetworkTask(**{**base.__dict__, "records": sheeted,
+                                "curves": tuple(bare(by_id[c]) for c in sheet_ids)})
+        exports = NetworkTask(**{**base.__dict__, "records": exported,
+                                 "curves": tuple(bare(by_id[c]) for c in drawn_ids)})
+        out.append((Drawing(network_sheets_pdf, sheets, nc.name, "sheets",
+                            f"sheets (sheets/{file_name([nc.name], '.pdf')})"), nc.path))
+        out.append((Drawing(network_exports, exports, nc.name, "exports", "exports ("
+                            + ", ".join(f"exports/{n}" for _, n in names) + ")"), nc.path))
+    return out

@@ -1,0 +1,72 @@
+"""The figures of ``report.html``, made small: compact PNG copies embedded as data URIs.
+
+``report.html`` embeds every figure (:mod:`clearance.reports.documents.report`); a full-resolution
+PNG would make the file tens of megabytes, so each is scaled down to :data:`HTML_IMAGE_WIDTH_PX` and
+quantised to :data:`HTML_IMAGE_COLOURS` colours (:func:`compact_png`). The full PNG and the
+SVG stay in ``figures/``. A worker that drew a figure makes its compact copy where the PNG
+is (``clearance.reports.cli.report.curve_figure_files``) and the report's process keeps it in
+:data:`COMPACT_MADE`, so that it is not made twice.
+"""
+
+from __future__ import annotations
+
+import base64
+import hashlib
+import html
+import io
+from pathlib import Path
+
+__all__ = ["COMPACT_MADE", "HTML_IMAGE_COLOURS", "HTML_IMAGE_WIDTH_PX", "compact_key",
+           "compact_png", "img_tag"]
+
+#: Figures in report.html: at most this wide (pixels) and quantised to this many colours.
+HTML_IMAGE_WIDTH_PX = 600
+HTML_IMAGE_COLOURS = 24
+
+
+#: Compact copies already made (by a worker that drew the figure, which has the PNG at
+#: hand), by :func:`compact_key`: :func:`compact_png` of the same bytes returns them.
+COMPACT_MADE: dict[str, bytes] = {}
+
+
+def compact_key(data: bytes, width_px: int = HTML_IMAGE_WIDTH_PX,
+                colours: int = HTML_IMAGE_COLOURS) -> str:
+    """The key of a full PNG's compact copy in :data:`COMPACT_MADE`: its SHA-256 and the
+    size asked for.
+
+    >>> compact_key(b"")[-7:]
+    '-600-24'
+    """
+    return f"{hashlib.sha256(data).hexdigest()}-{width_px}-{colours}"
+
+
+def compact_png(png: Path, width_px: int = HTML_IMAGE_WIDTH_PX,
+                colours: int = HTML_IMAGE_COLOURS) -> bytes:
+    """A figure made small for the HTML: scaled down to ``width_px`` and quantised to a
+    palette of ``colours`` (PNG, with Pillow, which matplotlib requires).
+
+    The full-resolution PNG and the SVG stay in ``figures/``.
+    """
+    from PIL import Image
+
+    data = Path(png).read_bytes()
+    made = COMPACT_MADE.get(compact_key(data, width_px, colours))
+    if made is not None:
+        return made
+    with Image.open(io.BytesIO(data)) as opened:
+        im = opened.convert("RGB")
+        if im.width > width_px:
+            im = im.resize((width_px, round(im.height * width_px / im.width)),
+                           Image.Resampling.LANCZOS)
+        im = im.quantize(colours, method=Image.Quantize.MEDIANCUT, dither=Image.Dither.NONE)
+        buf = io.BytesIO()
+        im.save(buf, "PNG", optimize=True)
+        return buf.getvalue()
+
+
+def img_tag(png: Path, alt: str, lazy: bool = True) -> str:
+    """An ``<img>`` element embedding the compact copy of ``png`` (:func:`compact_png`);
+    ``lazy``: loaded as it scrolls into view."""
+    data = base64.b64encode(compact_png(png)).decode("ascii")
+    loading = ' loading="lazy"' if lazy else ""
+    return f'<img alt="{html.escape(alt)}"{loading} src="data:image/png;base64,{data}">'

@@ -1,0 +1,73 @@
+"""Writing a report's folder: the tables, the documents and every drawing and export.
+
+:func:`write_report` writes ``clearance.csv`` and ``summary.json``, the curve figures, each
+network's sheets and exports, and ``report.md`` and ``report.html``. With the study's
+executor still open, the figures, sheets and exports are drawn in its workers
+(:class:`~clearance.reports.documents.drawings.Drawings`), which send the files back as
+bytes, while this process draws the network plans and writes the tables; the files are the
+same whichever process draws them (``tests/reports/test_report.py``). What a report writes
+into its folder is :data:`LAYOUT` (a folder holding anything else is never replaced).
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from clearance.reports.documents.drawings import Drawings, network_tasks
+from clearance.reports.documents.markdown import markdown
+from clearance.reports.documents.report import build_sections, html_document
+from clearance.reports.exports.study import export_names, georeferenced, write_exports
+from clearance.reports.output.atomic import write_text_atomic
+from clearance.reports.output.output_dir import Layout
+from clearance.reports.results.tables import clearance_csv, summary_json
+from clearance.reports.results.waivers import Waived
+from clearance.reports.study.executor import (
+    Executor,
+)
+from clearance.reports.study.run import (
+    COLUMNS,
+    Study,
+)
+
+__all__ = ["LAYOUT", "write_report"]
+
+
+#: What a report writes into its folder (the folder it may replace holds nothing else).
+LAYOUT = Layout(
+    "report",
+    # swept.*: the single export files of earlier versions, replaced by exports/
+    files=frozenset({"clearance.csv", "summary.json", "report.md", "report.html",
+                     "swept.geojson", "swept.add.xml", "swept.dxf"}),
+    folders={"figures": (".png", ".svg", ".jpg"), "fcd": (".xml",),
+             "exports": (".add.xml", ".dxf", ".geojson"), "sheets": (".pdf",)},
+    signature=("clearance.csv", ",".join(COLUMNS[:4])),
+)
+
+
+def write_report(study: Study, folder: Path, tables: list[Path], units: str = "m",
+                 waived: Waived | None = None, origin: tuple[float, float] | None = None,
+                 executor: Executor | None = None) -> None:
+    """Write every output of ``study`` into ``folder`` (which must be new or empty);
+    ``waived`` runs are shown as such (:mod:`clearance.reports.results.waivers`); ``origin`` (lat,
+    lon) places the networks without a projection in the GeoJSON exports. With ``executor``
+    the curve figures, sheets and exports are drawn in its workers (:class:`Drawings`)."""
+    from clearance.reports.documents.sheets import write_sheets
+
+    write_text_atomic(folder / "clearance.csv", clearance_csv(study, waived, units))
+    write_text_atomic(folder / "summary.json", summary_json(study, tables, waived))
+    if executor is None:
+        exports = write_exports(study, folder, origin)
+        sections = build_sections(study, folder, units, waived)
+        write_sheets(study, folder / "sheets", tables, units)
+    else:
+        drawings = Drawings(executor, folder)
+        for drawing, path in network_tasks(study, tables, units, origin):
+            drawings.submit(drawing, path)
+        exports = {nc.name: export_names(nc.name, georeferenced(nc, origin))
+                   for nc in study.networks}
+        sections = build_sections(study, folder, units, waived,
+                                  draw=drawings.curve_figure(study, units))
+        drawings.finish()
+        drawings.mark_lost(sections, exports)
+    write_text_atomic(folder / "report.md", markdown(study, sections, folder, units))
+    write_text_atomic(folder / "report.html", html_document(study, sections, units, exports))
