@@ -10,6 +10,7 @@ Modules, in the order data flows:
   selection, which classes may drive them.
 - ``stacking``, ``area_groups``, ``areas``, ``area_book``, ``collector``: each curve's
   three areas, storey by storey.
+- ``routes``, ``passages``: SUMO route files, and the passages a route drives.
 - ``plot``: plan figures.
 - :mod:`clearance.networks.driving`: choosing and driving a vehicle's path through a curve.
 - :mod:`clearance.networks.sumo`: SUMO itself (the only code that imports libsumo).

@@ -40,10 +40,12 @@ from clearance.reports.cli.options import (
     add_grade_option,
     add_lane_only_option,
     add_net_option,
+    add_route_options,
     add_selection_options,
     add_table_option,
     add_waivers_option,
     announcer,
+    route_study,
     selection_of,
 )
 from clearance.reports.output.atomic import write_text_atomic
@@ -52,6 +54,7 @@ from clearance.reports.results.golden import compare, golden_text, read_golden, 
 from clearance.reports.results.text_table import counted
 from clearance.reports.results.vertical import FINDINGS, vertical_words
 from clearance.reports.results.waivers import Waived, read_waivers, study_waivers
+from clearance.reports.study.routes import RouteStudy
 from clearance.reports.study.run import METHODS, Study, run_study
 from clearance.vehicles.errors import OptionError
 from clearance.vehicles.table import load_tables
@@ -84,6 +87,7 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
     add_executor_options(p)
     add_selection_options(p)
     add_waivers_option(p)
+    add_route_options(p)
     golden = p.add_mutually_exclusive_group()
     golden.add_argument("--expect", metavar="GOLDEN.csv",
                         help="compare with this golden file of verdicts")
@@ -156,6 +160,25 @@ def _vertical_failures(frame: pd.DataFrame, allowed: set[str]) -> int:
     return len(bad)
 
 
+def _baseline_gate(routes: RouteStudy) -> int:
+    """Exit 1 when a design vehicle is worse than the baseline on a passage of the routes
+    (each listed with route, junction and how much more room it needs)."""
+    worse = [r for r in routes.rows if r.vs_baseline == "worse"]
+    for r in worse:
+        more = (f", {r.more_room_m:.2f} m more room" if r.more_room_m == r.more_room_m
+                else "")
+        print(f"{r.route.route_id}: passage {r.order} at {r.passage.junction or '-'} "
+              f"({r.passage.from_edge} -> {r.passage.to_edge}): {r.vehicle} "
+              f"{r.record.verdict if r.record else 'not permitted'} worse than "
+              f"{routes.baseline} ({r.baseline.verdict if r.baseline else 'not run'}){more}")
+    vehicles = sorted({r.vehicle for r in routes.rows} - {routes.baseline or ""})
+    passages = len({(r.route.route_id, r.order) for r in routes.rows})
+    print(f"{len(routes.routes)} route(s), {passages} passage(s): "
+          + "; ".join(f"{v}: {sum(r.vehicle == v for r in worse)} worse than "
+                      f"{routes.baseline}" for v in vehicles))
+    return 1 if worse else 0
+
+
 def run(args: argparse.Namespace) -> int:
     if (args.allow_new or args.allow_gone) and not args.expect:
         raise OptionError("--allow-new and --allow-gone go with --expect GOLDEN.csv")
@@ -164,10 +187,14 @@ def run(args: argparse.Namespace) -> int:
     golden = read_golden(Path(args.expect)) if args.expect else None
     waivers = (read_waivers(Path(args.waivers), load_tables(args.table, warn=False).names)
                if args.waivers else [])
-    study = run_study(args.net, table, args.method, args.clearance, selection=selection,
-                      announce=announcer("check"),
-                      workers=args.workers, scheduler=args.scheduler,
-                      swing=not args.lane_only, max_grade_pct=args.max_grade_pct)
+    options = dict(method=args.method, clearance_m=args.clearance, selection=selection,
+                   announce=announcer("check"), workers=args.workers,
+                   scheduler=args.scheduler, swing=not args.lane_only,
+                   max_grade_pct=args.max_grade_pct)
+    routes = route_study(args, args.net, table, options)
+    study = routes.study if routes is not None else run_study(args.net, table, **options)
+    if routes is not None and routes.baseline is not None:
+        return _baseline_gate(routes)
     frame = study.frame()
     if not selection.is_empty:
         print(f"selection: {selection.describe()}: "

@@ -4,16 +4,22 @@ from __future__ import annotations
 
 import argparse
 import sys
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
+from pathlib import Path
+from typing import Any
 
 from clearance.networks.curves import KINDS
+from clearance.networks.routes import RouteSelection
 from clearance.networks.selection import Selection, parse_bbox
+from clearance.reports.study.routes import RouteStudy, run_route_study
+from clearance.vehicles.errors import OptionError
+from clearance.vehicles.table import VehicleTable
 
-__all__ = ["add_clearance_option", "announcer", "add_executor_options", "add_grade_option",
-           "add_lane_only_option",
-           "add_net_option", "add_output_option",
-           "add_selection_options", "add_table_option", "add_units_option", "add_vehicle_option",
-           "add_waivers_option", "selection_of"]
+__all__ = ["add_clearance_option", "add_executor_options", "add_grade_option",
+           "add_lane_only_option", "add_net_option", "add_output_option",
+           "add_route_options", "add_selection_options", "add_table_option",
+           "add_units_option", "add_vehicle_option", "add_waivers_option", "announcer",
+           "route_selection_of", "route_study", "selection_of"]
 
 
 def announcer(command: str) -> Callable[[str], None]:
@@ -115,3 +121,49 @@ def add_output_option(p: argparse.ArgumentParser, folder: bool, metavar: str, he
     the output is a folder."""
     names = ["-o", "--output", "--output-file"] + (["--output-dir"] if folder else [])
     p.add_argument(*names, dest="output", metavar=metavar, help=help, **kwargs)
+
+
+def add_route_options(p: argparse.ArgumentParser) -> None:
+    """A route study (:mod:`clearance.reports.study.routes`): ``--routes FILE``,
+    ``--additional FILE``, the selection (``--route-vclass``, ``--line``, ``--route-id``)
+    and the baseline (``--baseline NAME``, ``--baseline-tolerance M``)."""
+    g = p.add_argument_group("routes", "study only the passages along SUMO routes")
+    g.add_argument("--routes", "--route-files", dest="routes", action="append",
+                   metavar="FILE", help="SUMO route file .rou.xml[.gz] (repeatable): route, "
+                                        "vehicle, flow, trip (routed by duarouter)")
+    g.add_argument("--additional", "--additional-files", dest="additional", action="append",
+                   metavar="FILE", help="SUMO additional file with vehicle types or routes "
+                                        "(repeatable)")
+    g.add_argument("--route-vclass", action="append", metavar="CLASS",
+                   help="only routes of vehicles whose type has this SUMO class (repeatable)")
+    g.add_argument("--line", action="append", metavar="NAME",
+                   help="only routes of this line (the line attribute; repeatable)")
+    g.add_argument("--route-id", action="append", metavar="ID",
+                   help="only this route, or the route of this vehicle or flow (repeatable)")
+    g.add_argument("--baseline", metavar="NAME", default=None,
+                   help="compare every other vehicle with this one on each passage "
+                        "(vs_baseline in routes.csv: worse, same, better)")
+    g.add_argument("--baseline-tolerance", type=float, default=0.10, metavar="M",
+                   help="room a vehicle may lack against the baseline before it is worse "
+                        "(m, default 0.10)")
+
+
+def route_selection_of(args: argparse.Namespace) -> RouteSelection:
+    """The :class:`~clearance.networks.routes.RouteSelection` of :func:`add_route_options`."""
+    return RouteSelection(vclasses=tuple(args.route_vclass or ()),
+                          lines=tuple(args.line or ()), route_ids=tuple(args.route_id or ()))
+
+
+def route_study(args: argparse.Namespace, nets: Sequence[str | Path], table: VehicleTable,
+                options: dict[str, Any]) -> RouteStudy | None:
+    """The route study ``--routes`` asks for (one network), or None without it."""
+    if not args.routes:
+        if args.baseline or args.additional or args.line or args.route_id or args.route_vclass:
+            raise OptionError("--baseline, --additional, --line, --route-id and "
+                              "--route-vclass go with --routes FILE")
+        return None
+    if len(nets) != 1:
+        raise OptionError(f"--routes needs exactly one network (-n NET), not {len(nets)}")
+    return run_route_study(nets[0], args.routes, table, args.additional or (),
+                           route_selection_of(args), args.baseline,
+                           args.baseline_tolerance, **options)

@@ -22,11 +22,13 @@ from clearance.reports.cli.options import (
     add_lane_only_option,
     add_net_option,
     add_output_option,
+    add_route_options,
     add_selection_options,
     add_table_option,
     add_vehicle_option,
     add_waivers_option,
     announcer,
+    route_study,
     selection_of,
 )
 from clearance.reports.documents.writer import LAYOUT, write_report
@@ -87,6 +89,7 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
                         "projection: their GeoJSON in WGS84 (default: local metres)")
     add_selection_options(p)
     add_waivers_option(p)
+    add_route_options(p)
     p.set_defaults(run=run)
 
 
@@ -105,14 +108,15 @@ def run(args: argparse.Namespace) -> int:
     with output_folder(target, LAYOUT) as staging, \
             make_executor(args.workers, args.scheduler) as executor:
         fcd = staging / "fcd" if args.fcd else None
-        study = run_study(nets, table, args.method, args.clearance, fcd_dir=fcd,
-                          announce=announcer("report"),
-                          executor=executor, selection=selection, swing=not args.lane_only,
-                          max_grade_pct=args.max_grade_pct)
+        options = dict(method=args.method, clearance_m=args.clearance, fcd_dir=fcd,
+                       announce=announcer("report"), executor=executor, selection=selection,
+                       swing=not args.lane_only, max_grade_pct=args.max_grade_pct)
+        routes = route_study(args, nets, table, options)
+        study = routes.study if routes is not None else run_study(nets, table, **options)
         log.info("study: %d runs in %.1f s", len(study.records), time.perf_counter() - t0)
         waived = study_waivers(study.frame(), waivers) if waivers is not None else None
         t1 = time.perf_counter()
-        write_report(study, staging, tables, args.units, waived, origin, executor)
+        write_report(study, staging, tables, args.units, waived, origin, executor, routes)
         log.info("report, figures, sheets and exports written in %.1f s",
                  time.perf_counter() - t1)
     frame = study.frame()
@@ -133,3 +137,4 @@ def run(args: argparse.Namespace) -> int:
                         w.where, w.curve_id, w.vehicle, w.network)
     print(f"report: {target / 'report.html'}")
     return 0
+

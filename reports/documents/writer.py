@@ -19,11 +19,13 @@ from clearance.reports.documents.report import build_sections, html_document
 from clearance.reports.exports.study import export_names, georeferenced, write_exports
 from clearance.reports.output.atomic import write_text_atomic
 from clearance.reports.output.output_dir import Layout
+from clearance.reports.results.routes import route_summary, routes_csv
 from clearance.reports.results.tables import clearance_csv, summary_json
 from clearance.reports.results.waivers import Waived
 from clearance.reports.study.executor import (
     Executor,
 )
+from clearance.reports.study.routes import RouteStudy
 from clearance.reports.study.run import (
     COLUMNS,
     Study,
@@ -36,7 +38,7 @@ __all__ = ["LAYOUT", "write_report"]
 LAYOUT = Layout(
     "report",
     # swept.*: the single export files of earlier versions, replaced by exports/
-    files=frozenset({"clearance.csv", "summary.json", "report.md", "report.html",
+    files=frozenset({"clearance.csv", "summary.json", "routes.csv", "report.md", "report.html",
                      "swept.geojson", "swept.add.xml", "swept.dxf"}),
     folders={"figures": (".png", ".svg", ".jpg"), "fcd": (".xml",),
              "exports": (".add.xml", ".dxf", ".geojson"), "sheets": (".pdf",)},
@@ -46,7 +48,8 @@ LAYOUT = Layout(
 
 def write_report(study: Study, folder: Path, tables: list[Path], units: str = "m",
                  waived: Waived | None = None, origin: tuple[float, float] | None = None,
-                 executor: Executor | None = None) -> None:
+                 executor: Executor | None = None,
+                 routes: RouteStudy | None = None) -> None:
     """Write every output of ``study`` into ``folder`` (which must be new or empty);
     ``waived`` runs are shown as such (:mod:`clearance.reports.results.waivers`); ``origin`` (lat,
     lon) places the networks without a projection in the GeoJSON exports. With ``executor``
@@ -54,7 +57,10 @@ def write_report(study: Study, folder: Path, tables: list[Path], units: str = "m
     from clearance.reports.documents.sheets import write_sheets
 
     write_text_atomic(folder / "clearance.csv", clearance_csv(study, waived, units))
-    write_text_atomic(folder / "summary.json", summary_json(study, tables, waived))
+    write_text_atomic(folder / "summary.json", summary_json(
+        study, tables, waived, route_summary(routes.rows) if routes is not None else None))
+    if routes is not None:
+        write_text_atomic(folder / "routes.csv", routes_csv(routes.rows))
     if executor is None:
         exports = write_exports(study, folder, origin)
         sections = build_sections(study, folder, units, waived)

@@ -7,6 +7,7 @@
   summary.json.
 - ``csv_rows``, ``golden``, ``waivers``, ``gate``: the small CSV files ``check`` reads, and
   its gate.
+- ``routes``: a route study's rows (``routes.csv``) and the comparison with a baseline.
 - ``curve_rows``, ``vehicle_metrics``, ``simulate_files``: the tables of ``curves``,
   ``vehicles`` and ``simulate``.
 """

@@ -9,6 +9,7 @@ from __future__ import annotations
 import hashlib
 import json
 from collections import Counter
+from collections.abc import Mapping
 from importlib import metadata
 from pathlib import Path
 
@@ -94,8 +95,10 @@ def paths(frame: pd.DataFrame) -> dict[str, object]:
 
 
 def summary(study: Study, vehicle_tables: list[Path],
-            waived: Waived | None = None) -> dict[str, object]:
-    """The ``summary.json`` content (with ``waived`` counts when given waivers)."""
+            waived: Waived | None = None,
+            routes: Mapping[str, object] | None = None) -> dict[str, object]:
+    """The ``summary.json`` content (with ``waived`` counts when given waivers, and per
+    route and vehicle when given a route study's summary)."""
     frame = study.frame()
     worst = frame.assign(_o=frame.verdict.map(VERDICT_ORDER)).sort_values(
         ["_o", "margin_m", "network", "curve_id", "vehicle"], kind="stable")
@@ -146,11 +149,13 @@ def summary(study: Study, vehicle_tables: list[Path],
                                              & ~frame.index.isin(w.index)).sum()),
             "unused_waivers": [x.where for x in waived.unused],
         }
+    if routes is not None:
+        out["routes"] = routes
     return out
 
 
 def summary_json(study: Study, vehicle_tables: list[Path],
-                 waived: Waived | None = None) -> str:
+                 waived: Waived | None = None, routes: Mapping[str, object] | None = None) -> str:
     """``summary.json`` as text (sorted keys, two-space indent, trailing newline)."""
-    return json.dumps(summary(study, vehicle_tables, waived), indent=2,
+    return json.dumps(summary(study, vehicle_tables, waived, routes), indent=2,
                       sort_keys=True) + "\n"
