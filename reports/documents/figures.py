@@ -47,8 +47,8 @@ from clearance.vehicles.table import VehicleTable
 if TYPE_CHECKING:
     from numpy.typing import NDArray
 
-__all__ = ["COLOURS", "CurveFigure", "draw_curve_figure", "plot_curve", "plot_network",
-           "scratch_files", "shown_runs", "sites", "worst_by_curve"]
+__all__ = ["COLOURS", "CurveFigure", "core_points", "draw_curve_figure", "plot_curve",
+           "plot_network", "scratch_files", "shown_runs", "sites", "worst_by_curve"]
 
 COLOURS = {"clear": "#1e8449", "encroaches": "#e67e22", "fails": "#c0392b",
            "cannot-turn": "#7d3c98", "error": "#000000"}
@@ -83,7 +83,7 @@ def sites(curves: list[Curve], gap_m: float = 80.0, max_sites: int = 4) -> list[
         return []
     # an (N, 2) array of coordinates gives an array of N points
     centres = cast("NDArray[np.object_]",
-                   shapely.points(np.array([_core_points(c).mean(axis=0) for c in curves])))
+                   shapely.points(np.array([core_points(c).mean(axis=0) for c in curves])))
     pairs = shapely.STRtree(centres).query(centres, predicate="dwithin", distance=gap_m)
     parent = list(range(len(curves)))
 
@@ -137,12 +137,12 @@ def plot_network(nc: NetworkCurves, frame: pd.DataFrame, stem: Path, marked: int
         judged = [c for c in group if c.curve_id in verdict]
         for c in sorted(judged, key=lambda c: -VERDICT_ORDER[verdict[c.curve_id]]):
             v = verdict[c.curve_id]
-            core = _core_points(c)
+            core = core_points(c)
             ax.plot(core[:, 0], core[:, 1], color=COLOURS[v],
                     lw=1.0 if v == "clear" else 2.2, zorder=6, alpha=0.9)
         for c in group:
             if c.curve_id in rank:
-                core = _core_points(c)
+                core = core_points(c)
                 x, y = core[len(core) // 2]
                 ax.annotate(str(rank[c.curve_id]), (x, y), fontsize=7, fontweight="bold",
                             ha="center", va="center", zorder=8,
@@ -159,7 +159,7 @@ def plot_network(nc: NetworkCurves, frame: pd.DataFrame, stem: Path, marked: int
     return save(fig, stem)
 
 
-def _core_points(curve: Curve) -> np.ndarray:
+def core_points(curve: Curve) -> np.ndarray:
     pts = np.asarray(curve.centerline)[:, :2]
     s = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(pts, axis=0).T))])
     keep = (s >= curve.core_start_m - 1e-6) & (s <= curve.core_end_m + 1e-6)

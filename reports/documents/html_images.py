@@ -14,6 +14,7 @@ import base64
 import hashlib
 import html
 import io
+from collections.abc import Sequence
 from pathlib import Path
 
 __all__ = ["COMPACT_MADE", "HTML_IMAGE_COLOURS", "HTML_IMAGE_WIDTH_PX", "compact_key",
@@ -41,9 +42,11 @@ def compact_key(data: bytes, width_px: int = HTML_IMAGE_WIDTH_PX,
 
 
 def compact_png(png: Path, width_px: int = HTML_IMAGE_WIDTH_PX,
-                colours: int = HTML_IMAGE_COLOURS) -> bytes:
+                colours: int = HTML_IMAGE_COLOURS, kept: Sequence[str] = ()) -> bytes:
     """A figure made small for the HTML: scaled down to ``width_px`` and quantised to a
-    palette of ``colours`` (PNG, with Pillow, which matplotlib requires).
+    palette of ``colours`` (PNG, with Pillow, which matplotlib requires); the ``kept``
+    colours (``#rrggbb``) are in the palette whatever the median cut finds (thin coloured
+    lines on a grey plan would otherwise lose their colour).
 
     The full-resolution PNG and the SVG stay in ``figures/``.
     """
@@ -58,15 +61,25 @@ def compact_png(png: Path, width_px: int = HTML_IMAGE_WIDTH_PX,
         if im.width > width_px:
             im = im.resize((width_px, round(im.height * width_px / im.width)),
                            Image.Resampling.LANCZOS)
-        im = im.quantize(colours, method=Image.Quantize.MEDIANCUT, dither=Image.Dither.NONE)
+        if kept:
+            cut = im.quantize(colours - len(kept), method=Image.Quantize.MEDIANCUT,
+                              dither=Image.Dither.NONE)
+            entries = (cut.getpalette() or [])[:3 * (colours - len(kept))]
+            entries += [b for c in kept for b in bytes.fromhex(c.lstrip("#"))]
+            palette = Image.new("P", (1, 1))
+            palette.putpalette(entries + entries[:3] * (256 - len(entries) // 3))
+            im = im.quantize(palette=palette, dither=Image.Dither.NONE)
+        else:
+            im = im.quantize(colours, method=Image.Quantize.MEDIANCUT,
+                             dither=Image.Dither.NONE)
         buf = io.BytesIO()
         im.save(buf, "PNG", optimize=True)
         return buf.getvalue()
 
 
-def img_tag(png: Path, alt: str, lazy: bool = True) -> str:
-    """An ``<img>`` element embedding the compact copy of ``png`` (:func:`compact_png`);
-    ``lazy``: loaded as it scrolls into view."""
-    data = base64.b64encode(compact_png(png)).decode("ascii")
+def img_tag(png: Path, alt: str, lazy: bool = True, kept: Sequence[str] = ()) -> str:
+    """An ``<img>`` element embedding the compact copy of ``png`` (:func:`compact_png`,
+    keeping the ``kept`` colours); ``lazy``: loaded as it scrolls into view."""
+    data = base64.b64encode(compact_png(png, kept=kept)).decode("ascii")
     loading = ' loading="lazy"' if lazy else ""
     return f'<img alt="{html.escape(alt)}"{loading} src="data:image/png;base64,{data}">'

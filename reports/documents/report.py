@@ -14,7 +14,7 @@ import html
 import math
 import re
 from collections import Counter
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -571,12 +571,13 @@ def _files_html(exports: dict[str, dict[str, str]] | None) -> list[str]:
 
 
 def html_document(study: Study, sections: list[Section], units: str = "m",
-                  exports: dict[str, dict[str, str]] | None = None) -> str:
+                  exports: dict[str, dict[str, str]] | None = None,
+                  first: Sequence[str] = ()) -> str:
     """``report.html``: one self-contained file (figures embedded, compact, no external
     assets): a contents list, then per network a summary, the plan, the vehicle × curve
     matrix (every cell linked to its curve's section) and a section per failing or tight
     curve listing every vehicle's verdict and margins in words."""
-    out = _head_html(study, sections, units) + _toc_html(sections)
+    out = _head_html(study, sections, units) + _toc_html(sections) + list(first)
     for s in sections:
         out += _section_html(s, units)
     out += _files_html(exports)

@@ -15,7 +15,8 @@ from pathlib import Path
 
 from clearance.reports.documents.drawings import Drawings, network_tasks
 from clearance.reports.documents.markdown import markdown
-from clearance.reports.documents.report import build_sections, html_document
+from clearance.reports.documents.report import Section, anchor, build_sections, html_document
+from clearance.reports.documents.route_maps import route_maps, routes_html
 from clearance.reports.exports.study import export_names, georeferenced, write_exports
 from clearance.reports.output.atomic import write_text_atomic
 from clearance.reports.output.output_dir import Layout
@@ -75,5 +76,15 @@ def write_report(study: Study, folder: Path, tables: list[Path], units: str = "m
                                   draw=drawings.curve_figure(study, units))
         drawings.finish()
         drawings.mark_lost(sections, exports)
+    first = _routes_section(routes, sections, folder, units) if routes is not None else []
     write_text_atomic(folder / "report.md", markdown(study, sections, folder, units))
-    write_text_atomic(folder / "report.html", html_document(study, sections, units, exports))
+    write_text_atomic(folder / "report.html", html_document(study, sections, units, exports,
+                                                            first))
+
+
+def _routes_section(routes: RouteStudy, sections: list[Section], folder: Path,
+                    units: str) -> list[str]:
+    """The routes' maps, drawn here, and their section of report.html (each passage linked
+    to its curve's section where the report has one)."""
+    links = {c.curve_id: anchor(s.name, c.curve_id) for s in sections for c in s.curves}
+    return routes_html(routes, route_maps(routes, folder, units), links)
