@@ -123,7 +123,7 @@ def add_output_option(p: argparse.ArgumentParser, folder: bool, metavar: str, he
     p.add_argument(*names, dest="output", metavar=metavar, help=help, **kwargs)
 
 
-def add_route_options(p: argparse.ArgumentParser) -> None:
+def add_route_options(p: argparse.ArgumentParser, baseline: bool = True) -> None:
     """A route study (:mod:`clearance.reports.study.routes`): ``--routes FILE``,
     ``--additional FILE``, the selection (``--route-vclass``, ``--line``, ``--route-id``)
     and the baseline (``--baseline NAME``, ``--baseline-tolerance M``)."""
@@ -140,6 +140,8 @@ def add_route_options(p: argparse.ArgumentParser) -> None:
                    help="only routes of this line (the line attribute; repeatable)")
     g.add_argument("--route-id", action="append", metavar="ID",
                    help="only this route, or the route of this vehicle or flow (repeatable)")
+    if not baseline:
+        return
     g.add_argument("--baseline", metavar="NAME", default=None,
                    help="compare every other vehicle with this one on each passage "
                         "(vs_baseline in routes.csv: worse, same, better)")

@@ -39,7 +39,7 @@ from dataclasses import replace
 from pathlib import Path
 
 from clearance.analysis.tracking import TrackingSettings
-from clearance.networks.curves import DEFAULT_KINDS, CurveOptions
+from clearance.networks.curves import DEFAULT_KINDS, KINDS, CurveOptions
 from clearance.networks.driving.drive import (
     DriveOptions,
     replay_config,
@@ -56,9 +56,11 @@ from clearance.reports.cli.options import (
     add_lane_only_option,
     add_net_option,
     add_output_option,
+    add_route_options,
     add_selection_options,
     add_table_option,
     add_vehicle_option,
+    route_selection_of,
     selection_of,
 )
 from clearance.reports.output.atomic import current_umask, write_text_atomic
@@ -72,6 +74,7 @@ from clearance.reports.results.simulate_files import (
 )
 from clearance.reports.results.text_table import format_table
 from clearance.reports.study.drives import drive_in_workers
+from clearance.reports.study.routes import route_curve_ids, selected_routes
 from clearance.reports.study.run import APPROACH_M, network_name
 from clearance.vehicles.errors import NetworkError, OptionError
 from clearance.vehicles.table import load_tables
@@ -96,6 +99,7 @@ def add_parser(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParse
     add_vehicle_option(p, required=True, help="vehicle to drive (repeatable)")
     p.add_argument("--curve", action="append", metavar="ID",
                    help="only this curve (repeatable; ids as `clearance curves` lists them)")
+    add_route_options(p, baseline=False)
     add_selection_options(p, kinds_default="all but uturn")
     add_output_option(p, folder=True, metavar="DIR", type=Path,
                       help="write results.csv, envelopes.geojson and trajectories/ here")
@@ -144,6 +148,10 @@ def run(args: argparse.Namespace) -> int:
             raise NetworkError(f"{args.net}: {why}")
         kinds = tuple(dict.fromkeys(args.kind or DEFAULT_KINDS))
         selection = replace(selection_of(args), kinds=kinds)
+        if args.routes:  # the passages of the routes only, every kind (U-turns too)
+            routes = selected_routes(net, args.routes, args.additional or (),
+                                     route_selection_of(args))
+            selection = replace(selection, kinds=KINDS, curve_ids=route_curve_ids(net, routes))
         if selection.junctions:
             check_junctions(selection.junctions, [net])
         # the study's lead-ins, so that a run here is the run `clearance report` makes

@@ -33,7 +33,8 @@ from clearance.reports.study.run import APPROACH_M, Study, run_study
 from clearance.vehicles.errors import OptionError
 from clearance.vehicles.table import VehicleTable
 
-__all__ = ["RouteStudy", "route_passages_of", "run_route_study"]
+__all__ = ["RouteStudy", "route_curve_ids", "route_passages_of", "run_route_study",
+           "selected_routes"]
 
 
 @dataclass
@@ -68,6 +69,21 @@ def route_passages_of(net: Network, routes: Sequence[Route]
     return out, uncovered
 
 
+def selected_routes(net: Network, route_files: Sequence[str | Path],
+                    additional: Sequence[str | Path] = (),
+                    route_selection: RouteSelection | None = None) -> list[Route]:
+    """The routes of the files, checked against ``net`` as SUMO checks them, selected."""
+    routes = read_routes(route_files, additional, net.path)
+    check_routes(routes, net)
+    return select_routes(routes, route_selection or RouteSelection())
+
+
+def route_curve_ids(net: Network, routes: Sequence[Route]) -> frozenset[str]:
+    """The ids of the curves of the routes' passages (``clearance simulate --routes``)."""
+    passages, _ = route_passages_of(net, routes)
+    return frozenset(c for found in passages.values() for _, p in found for c in p.curve_ids)
+
+
 def run_route_study(net_path: str | os.PathLike[str], route_files: Sequence[str | Path],
                     table: VehicleTable, additional: Sequence[str | Path] = (),
                     route_selection: RouteSelection | None = None,
@@ -93,9 +109,7 @@ def run_route_study(net_path: str | os.PathLike[str], route_files: Sequence[str 
     if not tolerance_m >= 0:
         raise OptionError(f"--baseline-tolerance must be a length >= 0 m, not {tolerance_m}")
     net = load_network(net_path)
-    routes = read_routes(route_files, additional, net_path)
-    check_routes(routes, net)
-    routes = select_routes(routes, route_selection or RouteSelection())
+    routes = selected_routes(net, route_files, additional, route_selection)
     passages, uncovered = route_passages_of(net, routes)
     ids = frozenset(c for found in passages.values() for _, p in found for c in p.curve_ids)
     base = study_options.pop("selection", None) or Selection()

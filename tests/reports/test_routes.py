@@ -126,3 +126,16 @@ def test_a_route_file_naming_what_the_network_lacks_exits_2(tmp_path, capsys):
                  "CITY-BUS"]) == 2
     err = capsys.readouterr().err
     assert str(bad) in err and "route 'r'" in err and "Traceback" not in err
+
+
+@needs_real
+def test_simulate_drives_the_passages_of_a_line(tmp_path, doerpfeld):
+    out = tmp_path / "sim"
+    assert main(["simulate", "-n", str(NET), "--routes", str(LINES), "--additional",
+                 str(TYPES), "--line", "bus_162", "--vehicle", "A-BUS", "--no-sumo",
+                 "-o", str(out)]) == 0
+    with open(out / "results.csv", newline="") as fh:
+        driven = {r["curve_id"] for r in csv.DictReader(fh)}
+    line = {c for r in doerpfeld.rows if r.route.route_id == "bus_162"
+            for c in r.passage.curve_ids}
+    assert driven == line
