@@ -7,6 +7,7 @@ from __future__ import annotations
 import csv
 import json
 import math
+import os
 from pathlib import Path
 
 import pytest
@@ -139,3 +140,35 @@ def test_simulate_drives_the_passages_of_a_line(tmp_path, doerpfeld):
     line = {c for r in doerpfeld.rows if r.route.route_id == "bus_162"
             for c in r.passage.curve_ids}
     assert driven == line
+
+
+#: The three shared bus networks: network, route files, additional files.
+BUS_NETWORKS = {
+    "wildau": ("wildau.net.xml.gz", ["wildau.bus.rou.xml"], []),
+    "tavf_hamburg": ("tavf_hamburg.net.xml.gz", ["tavf_hamburg.bus.rou.xml"],
+                     ["tavf_hamburg.vtypes.xml"]),
+    "doerpfeldstr": ("doerpfeldstr.net.xml.gz", ["doerpfeldstr.pt_lines.rou.xml"],
+                     ["doerpfeldstr.vtypes.xml"]),
+}
+
+
+@needs_real
+@pytest.mark.skipif(not os.environ.get("CLEARANCE_BUS_NETWORKS"),
+                    reason="about 5 minutes: set CLEARANCE_BUS_NETWORKS=1")
+@pytest.mark.parametrize("name", sorted(BUS_NETWORKS))
+def test_every_bus_line_of_the_shared_networks(name, buses):
+    net, routes, additional = BUS_NETWORKS[name]
+    rs = run_route_study(REAL / net, [REAL / f for f in routes], buses,
+                         [REAL / f for f in additional], RouteSelection(vclasses=("bus",)),
+                         baseline="CITY-BUS", workers=2)
+    assert not any(r.verdict == "error" for r in rs.study.records)
+    # every step of every bus route, read here on its own, is inside one of its passages
+    network = load_network(REAL / net)
+    for route in read_routes([REAL / f for f in routes], [REAL / f for f in additional]):
+        if route.vclass != "bus":
+            continue
+        covered = {(p.edges[k], p.edges[k + 1]) for _, p in rs.passages[route.route_id]
+                   for k in range(len(p.edges) - 1)}
+        for a, b in zip(route.edges, route.edges[1:], strict=False):
+            assert network.edges[a].to_junction == network.edges[b].from_junction
+            assert (a, b) in covered, (route.route_id, a, b)
