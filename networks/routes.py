@@ -16,7 +16,8 @@ SUMO reads them:
   (passenger).
 
 ``<stop busStop=…>`` names a place defined in files the user may not have given; the
-route's edges are what the study needs, so stops are not read. Every route is checked
+route's edges are what the study needs, so the stopping places no file given defines are
+one warning, not an error. Every route is checked
 against the network as SUMO checks it: an edge the network does not have
 (``The edge 'x' within the route … is not known``), and two consecutive edges with no
 connection (``No connection between edge 'a' and edge 'b' found.``), each a
@@ -25,6 +26,7 @@ connection (``No connection between edge 'a' and edge 'b' found.``), each a
 
 from __future__ import annotations
 
+import logging
 import os
 import subprocess
 import tempfile
@@ -40,8 +42,10 @@ from clearance.networks.safe_xml import open_binary, scan_prolog
 from clearance.networks.sumo.tools import find_sumo_binary, sumo_home
 from clearance.vehicles.errors import RouteError
 
-__all__ = ["DEFAULT_TYPES", "Route", "RouteSelection", "check_routes", "read_routes",
-           "route_trips", "select_routes"]
+log = logging.getLogger(__name__)
+
+__all__ = ["DEFAULT_TYPES", "STOP_PLACES", "Route", "RouteSelection", "check_routes",
+           "read_routes", "route_trips", "select_routes"]
 
 #: SUMO's built-in vehicle types and their classes (a vehicle without ``type`` drives the
 #: first).
@@ -97,6 +101,12 @@ class _Files:
         self.dists: dict[str, list[str]] = {}  # distribution id -> its route ids
         self.users: list[tuple[str, str, dict[str, str], tuple[str, ...] | None, str]] = []
         self.used: set[str] = set()
+        self.places: set[str] = set()  # stopping places the files define
+        self.stops: dict[str, str] = {}  # a stopping place a <stop> names -> its file
+
+
+#: The attributes of ``<stop>`` that name a stopping place, and the elements defining one.
+STOP_PLACES = ("busStop", "trainStop", "containerStop", "chargingStation", "parkingArea")
 
 
 def _parse(path: Path) -> Any:
@@ -123,6 +133,12 @@ def _read_one(path: Path, files: _Files, routes_allowed: bool) -> None:
     root = _parse(path)
     for el in root.iter(etree.Element):
         tag = el.tag
+        if tag in STOP_PLACES and el.get("id"):
+            files.places.add(el.get("id"))
+        elif tag == "stop":
+            for a in STOP_PLACES:
+                if el.get(a):
+                    files.stops.setdefault(el.get(a), str(path))
         if tag == "vType" and el.get("id"):
             files.vtypes[el.get("id")] = el.get("vClass", "passenger")
         elif not routes_allowed:
@@ -164,6 +180,11 @@ def read_routes(paths: Sequence[str | os.PathLike[str]],
         _read_one(Path(p), files, routes_allowed=True)
     for p in paths:
         _read_one(Path(p), files, routes_allowed=True)
+    unknown = sorted(set(files.stops) - files.places)
+    if unknown:
+        log.warning("%s: %d stopping place(s) the files given do not define (%s%s); stops are "
+                    "not needed: the routes' edges are studied", files.stops[unknown[0]],
+                    len(unknown), ", ".join(unknown[:5]), ", ..." if len(unknown) > 5 else "")
     out: dict[str, Route] = {}
     trips: list[tuple[str, dict[str, str], str]] = []
     for tag, vid, attrib, own, file in files.users:

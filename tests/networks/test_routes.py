@@ -4,6 +4,7 @@
 from __future__ import annotations
 
 import gzip
+import logging
 from pathlib import Path
 
 import pytest
@@ -40,13 +41,17 @@ def test_duarouter_output_with_its_configuration_header():
 
 
 @needs_real
-def test_line_flows_with_types_in_an_additional_file():
+def test_line_flows_with_types_in_an_additional_file(caplog):
     # Doerpfeldstr: <route>s with stops (the bus stops' file is not given: not needed) and
     # flows with line= naming types that only the additional file defines
     files = [REAL / "doerpfeldstr.pt_lines.rou.xml"]
     with pytest.raises(RouteError, match="type 'pt_(tram|bus)' is not defined"):
         read_routes(files)
-    routes = read_routes(files, [REAL / "doerpfeldstr.vtypes.xml"])
+    caplog.clear()
+    with caplog.at_level(logging.WARNING, logger="clearance.networks.routes"):
+        routes = read_routes(files, [REAL / "doerpfeldstr.vtypes.xml"])
+    (warned,) = [r.getMessage() for r in caplog.records]  # one warning for all the stops
+    assert "stopping place(s) the files given do not define (bs_" in warned
     buses = select_routes(routes, RouteSelection(vclasses=("bus",)))
     assert sorted(r.line for r in buses) == ["bus_162", "bus_164"]
     check_routes(routes, load_network(REAL / "doerpfeldstr.net.xml.gz"))
