@@ -22,6 +22,18 @@ curve run); a run that has played its last sample is removed and the next queued
 vehicle is added in its place. The model is computed a batch ahead. Every run has a bounded
 number of samples (the model's step cap), so the simulation ends.
 
+Which path SUMO shows
+---------------------
+Without FCD output SUMO checks the lane pass: every run is placed along its lane's centre
+line while the model computes it, before the verdicts and the swing pass
+(:mod:`clearance.networks.driving.swing`). With FCD output
+(:attr:`DriveOptions.fcd_output`, ``clearance simulate --fcd``) the lane pass runs without
+SUMO, and every run is placed after the swing pass along the path its verdict rests on
+(:attr:`DrivenRun.chosen_run`: the swung path's trajectory where one was taken, the lane's
+otherwise), so that the replay in sumo-gui shows the swing the verdict describes; the check
+(:attr:`DrivenRun.sumo_steps`, :attr:`DrivenRun.sumo_max_deviation_m`) is then that of this
+placement, and a run SUMO fails keeps its verdict's reason beside SUMO's in ``error``.
+
 The SUMO side (vTypes, trailers as vehicles of their own, replay in sumo-gui, SUMO's errors)
 is :mod:`clearance.networks.sumo.session`.
 """
@@ -79,7 +91,8 @@ def drive(
         Tracking settings of the model (SUMO's step is a whole multiple of its time
         step, :attr:`DriveOptions.sumo_step_s`).
     options
-        Batch size, FCD output, clearance offset, with or without SUMO.
+        Batch size, FCD output (SUMO then places each run along its chosen path, after
+        the swing pass), clearance offset, with or without SUMO.
     stats
         Filled with the time spent in each part, when given.
 
@@ -112,32 +125,58 @@ def drive(
     for d in everything:
         d.error = bad.get(d.curve.curve_id, "")
     out = [d for d in everything if not d.error]
-    pairs = [(d.vehicle, d.curve) for d in out]
 
     stats = stats if stats is not None else DriveStats()
-
-    def batches() -> Iterator[list[int]]:
-        for lo in range(0, len(pairs), options.batch_size):
-            t0, c0 = time.perf_counter(), time.process_time()
-            idx = list(range(lo, min(lo + options.batch_size, len(pairs))))
-            runs = simulate_batch([pairs[i][0] for i in idx],
-                                  [paths[pairs[i][1].curve_id] for i in idx], settings)
-            for i, r in zip(idx, runs, strict=True):
-                out[i].run = r
-            stats.model_s += time.perf_counter() - t0
-            stats.model_cpu_s += time.process_time() - c0
-            yield idx
-
-    t0, c0 = time.perf_counter(), time.process_time()
-    if options.use_sumo:
-        ends = {k: net.lanes[k].shape[-1] for _, c in pairs for k in c.lanes if k in net.lanes}
-        before, cpu_before = stats.model_s, stats.model_cpu_s
-        SumoSession(net.path, out, paths, settings, options, ends, stats).run(batches())
-        stats.sumo_s += time.perf_counter() - t0 - (stats.model_s - before)
-        stats.sumo_cpu_s += time.process_time() - c0 - (stats.model_cpu_s - cpu_before)
+    after = options.use_sumo and options.fcd_output is not None
+    batches = _modelled(out, paths, settings, options, stats)
+    if options.use_sumo and not after:  # SUMO checks the lane pass as the model goes
+        _in_sumo(net, out, paths, settings, options, stats, batches)
     else:
-        for _ in batches():
+        for _ in batches:
             pass
+    _judge(out, areas, options, stats)
+    if options.swing:  # the best path within the pavement, for the runs not clear
+        swing_pass(out, paths, areas, settings, options, stats)
+    if after:  # the FCD output shows each run along the path its verdict rests on
+        placed = [i for i, d in enumerate(out) if d.chosen_run is not None]
+        _in_sumo(net, out, paths, settings, options, stats, iter([placed]), chosen=True)
+    return everything
+
+
+def _modelled(out: list[DrivenRun], paths: dict[str, Path], settings: TrackingSettings,
+              options: DriveOptions, stats: DriveStats) -> Iterator[list[int]]:
+    """Model the lane runs of ``out`` batch by batch (``run`` set); yields each batch's
+    indices once it is modelled."""
+    for lo in range(0, len(out), options.batch_size):
+        t0, c0 = time.perf_counter(), time.process_time()
+        idx = list(range(lo, min(lo + options.batch_size, len(out))))
+        runs = simulate_batch([out[i].vehicle for i in idx],
+                              [paths[out[i].curve.curve_id] for i in idx], settings)
+        for i, r in zip(idx, runs, strict=True):
+            out[i].run = r
+        stats.model_s += time.perf_counter() - t0
+        stats.model_cpu_s += time.process_time() - c0
+        yield idx
+
+
+def _in_sumo(net: Network, out: list[DrivenRun], paths: dict[str, Path],
+             settings: TrackingSettings, options: DriveOptions, stats: DriveStats,
+             batches: Iterator[list[int]], chosen: bool = False) -> None:
+    """Place the runs of ``batches`` in one SUMO session (:class:`SumoSession`; with
+    ``chosen``, along their chosen paths); SUMO's time in ``stats`` (without the model's)."""
+    t0, c0 = time.perf_counter(), time.process_time()
+    curves = {d.curve.curve_id: d.curve for d in out}
+    ends = {k: net.lanes[k].shape[-1] for c in curves.values() for k in c.lanes
+            if k in net.lanes}
+    before, cpu_before = stats.model_s, stats.model_cpu_s
+    SumoSession(net.path, out, paths, settings, options, ends, stats, chosen).run(batches)
+    stats.sumo_s += time.perf_counter() - t0 - (stats.model_s - before)
+    stats.sumo_cpu_s += time.process_time() - c0 - (stats.model_cpu_s - cpu_before)
+
+
+def _judge(out: list[DrivenRun], areas: dict[str, Areas], options: DriveOptions,
+           stats: DriveStats) -> None:
+    """Envelope and verdict of every modelled run of ``out`` on its lane path (``result``)."""
     t0 = time.perf_counter()
     for d in out:
         if d.run is None:  # pragma: no cover - every queued run is modelled
@@ -152,7 +191,3 @@ def drive(
             d.error = (d.error + "; " if d.error else "") + f"envelope or verdict failed: {exc}"
             log.warning("%s x %s: %s", d.vehicle.name, d.curve.curve_id, d.error)
     stats.evaluate_s += time.perf_counter() - t0
-    if options.swing:  # the best path within the pavement, for the runs not clear
-        swing_pass(out, paths, areas, settings, options, stats)
-    return everything
-

@@ -45,7 +45,10 @@ class DriveOptions:
     deviation_tolerance_m
         A run whose SUMO position leaves the model's by more than this is logged.
     fcd_output
-        Write SUMO's FCD output here (``--fcd-output``), or ``None``.
+        Write SUMO's FCD output here (``--fcd-output``), or ``None``. With it, SUMO places
+        each run after the swing pass, along the path its verdict rests on
+        (:attr:`DrivenRun.chosen_run`), so that a replay shows the swing the verdict
+        describes; without it, along the lane's centre line, during the lane pass.
     offset_m
         Clearance offset the envelopes are grown by before the verdict.
     use_sumo
@@ -194,17 +197,22 @@ class DrivenRun:
     result
         Model run, swept path and clearance (always computed).
     sumo_steps
-        SUMO steps the vehicle was placed in (0 without SUMO).
+        SUMO steps the vehicle was placed in (0 without SUMO): along the lane path, or with
+        FCD output along the chosen path (:attr:`chosen_run`).
     sumo_max_deviation_m
         Largest distance between SUMO's reported front-bumper centre and the model's
         (``nan`` when the run was not driven through SUMO).
+    sumo_vehicle
+        The run's SUMO vehicle id (``v<n>``; its trailer ``v<n>.trailer``), the id of its
+        points in the FCD output; empty when it was not driven through SUMO.
     error
         Why SUMO failed this run; empty when it did not.
     lane_result
         The result on the lane's centre line (``result`` itself unless a swung path was
         taken).
     path
-        ``lane`` or ``swung``: the path ``result`` judges. SUMO replays the lane's.
+        ``lane`` or ``swung``: the path ``result`` judges. SUMO places the vehicle along
+        the lane's, or with FCD output along this one (:attr:`DriveOptions.fcd_output`).
     swing_m
         The swung path's largest outward offset over the feature (m), 0 on the lane;
         negative for a path that cuts inside at the apex (its depth).
@@ -224,6 +232,15 @@ class DrivenRun:
     path: str = "lane"
     swing_m: float = 0.0
     line: SwungLine | None = field(default=None, repr=False)
+    sumo_vehicle: str = ""
+
+    @property
+    def chosen_run(self) -> TrackingRun | None:
+        """The model's run the verdict rests on: the swung path's where one was taken
+        (``result.run``), the lane's (:attr:`run`) otherwise; ``None`` when not modelled."""
+        if self.path == "swung" and self.result is not None:
+            return self.result.run
+        return self.run
 
     @property
     def verdict(self) -> str:

@@ -25,8 +25,9 @@ then it ``fails`` by how far the best of those leaves the pavement, and is ``can
 only when none of them can be driven either.
 
 The lane-following result stays beside the chosen one (:attr:`DrivenRun.lane_result`), and
-:attr:`DrivenRun.path` says which was taken (``lane`` or ``swung``). SUMO replays the lane
-path only (it runs before this pass): swung paths are the model's.
+:attr:`DrivenRun.path` says which was taken (``lane`` or ``swung``). SUMO places the lane
+path during the lane pass, or, with FCD output, the chosen path after this pass
+(:mod:`clearance.networks.driving.drive`).
 """
 
 from __future__ import annotations

@@ -24,16 +24,18 @@ from clearance.networks.sumo.tools import sumo_home
 from clearance.vehicles.errors import GeometryError
 from clearance.vehicles.vehicle import Vehicle
 
-__all__ = ["replay_command", "replay_script", "REPLAY_COMMAND", "edge_of_lane", "first_on",
-           "front_bumper", "lane_boundaries_m", "lane_index", "replay_config",
-           "route_edges", "shape_class", "trailer_front", "vtype_parameters"]
+__all__ = ["replay_command", "replay_script", "REPLAY_COMMAND", "centre_stations",
+           "edge_of_lane", "first_on", "front_bumper", "lane_boundaries_m", "lane_index",
+           "replay_config", "route_edges", "shape_class", "trailer_front", "vtype_parameters"]
 
 REPLAY_COMMAND = 'python "$SUMO_HOME/tools/fcdReplay.py" -k {config} -f {fcd}'
 """How to replay an FCD file in sumo-gui (format with the config and FCD paths)."""
 
 
-def replay_config(net_path: str | os.PathLike[str], dt_s: float) -> str:
-    """A SUMO configuration for replaying FCD output over ``net_path`` (XML text).
+def replay_config(net_path: str | os.PathLike[str], dt_s: float,
+                  additional: Sequence[str | os.PathLike[str]] = ()) -> str:
+    """A SUMO configuration for replaying FCD output over ``net_path`` (XML text), with
+    sumo-gui's ``additional`` files (relative paths are the configuration's folder's).
 
     Examples
     --------
@@ -42,11 +44,22 @@ def replay_config(net_path: str | os.PathLike[str], dt_s: float) -> str:
         <input><net-file value="x.net.xml"/></input>
         <time><step-length value="0.1"/></time>
     </configuration>
+    >>> print(replay_config("x.net.xml", 0.2, ["paths.add.xml"]))
+    ... # doctest: +NORMALIZE_WHITESPACE
+    <?xml version="1.0" encoding="UTF-8"?> <configuration>
+        <input><net-file value="x.net.xml"/>
+            <additional-files value="paths.add.xml"/></input>
+        <time><step-length value="0.2"/></time>
+    </configuration>
     """
     from xml.sax.saxutils import quoteattr
 
+    extra = ""
+    if additional:
+        files = ",".join(os.fspath(a) for a in additional)
+        extra = f"\n        <additional-files value={quoteattr(files)}/>"
     return ('<?xml version="1.0" encoding="UTF-8"?>\n<configuration>\n'
-            f'    <input><net-file value={quoteattr(os.fspath(net_path))}/></input>\n'
+            f'    <input><net-file value={quoteattr(os.fspath(net_path))}/>{extra}</input>\n'
             f'    <time><step-length value="{dt_s!r}"/></time>\n</configuration>\n')
 
 
@@ -173,8 +186,60 @@ def first_on(area, x: np.ndarray, y: np.ndarray) -> int:
     return int(hits[0]) if len(hits) else len(x)
 
 
+def centre_stations(centre: Path, line: Path, x: np.ndarray, y: np.ndarray,
+                    along_m: np.ndarray) -> np.ndarray:
+    """Stations on ``centre`` (m) of the points ``(x, y)`` that lie about ``along_m`` along
+    ``line``, a line that leaves ``centre`` and rejoins it: a swung path (a kept part of the
+    centre line moved sideways, :mod:`clearance.networks.driving.shapes`).
+
+    Each point is matched to ``centre``'s nearest point within a band around its station
+    mapped from ``line`` in proportion (``line``'s ends matched to ``centre``'s nearest
+    points, in 3-D where both have levels), so that a point is never matched to another
+    part of a centre line that passes near itself (a roundabout's arms, a helix's levels).
+    The edge and lane hints of SUMO's placements are looked up at these stations.
+
+    Examples
+    --------
+    A line swung 2 m to the left over the middle of a straight centre line:
+
+    >>> from clearance.analysis.polyline import prepare_path
+    >>> centre = prepare_path([(0.0, 0.0), (20.0, 0.0)], spacing_m=1.0)
+    >>> line = prepare_path([(5.0, 0.0), (10.0, 2.0), (15.0, 0.0)], spacing_m=1.0)
+    >>> st = centre_stations(centre, line, np.array([10.0, 14.0]), np.array([1.9, 0.3]),
+    ...                      np.array([5.4, 9.9]))
+    >>> st.round(3).tolist()
+    [10.0, 14.0]
+    """
+    from clearance.networks.driving.shapes import nearest_on
+
+    def points(p: Path, k: slice | list[int]) -> np.ndarray:
+        if p.z is None or centre.z is None or line.z is None:
+            return np.asarray(p.xy[k], dtype=float)
+        return np.column_stack([p.xy[k], p.z[k]])
+
+    ends = points(line, [0, -1])
+    pts = points(centre, slice(None))
+    near = np.argmin(np.linalg.norm(pts[None, :, :] - ends[:, None, :], axis=2), axis=1)
+    s0, s1 = (float(centre.station_m[k]) for k in near)
+    scale = (s1 - s0) / line.length_m if line.length_m > 0 else 0.0
+    guess = s0 + np.asarray(along_m, dtype=float) * scale
+    band = abs(line.length_m - (s1 - s0)) + 3.0
+    xy = np.column_stack([np.asarray(x, dtype=float), np.asarray(y, dtype=float)])
+    return nearest_on(np.asarray(centre.xy, dtype=float), xy, guess, band)[0]
+
+
 def front_bumper(run: TrackingRun) -> tuple[np.ndarray, np.ndarray]:
-    """SUMO's reference point: the front-bumper centre, ahead of the front axle."""
+    """SUMO's reference point: the front-bumper centre, ahead of the front axle.
+
+    Examples
+    --------
+    >>> from clearance.analysis.polyline import prepare_path
+    >>> from clearance.analysis.tracking import simulate
+    >>> car = Vehicle("car", 2.7, 1.5, 1.8, 0.9, 1.0, 0.6, 0.65, 0.5)
+    >>> x, y = front_bumper(simulate(car, prepare_path([(0.0, 0.0), (10.0, 0.0)])))
+    >>> round(float(x[0]), 3), round(float(y[0]), 3)
+    (0.9, 0.0)
+    """
     tr = run.trajectory
     a = run.vehicle.front_overhang_m
     return tr.xf_m + a * np.cos(tr.theta_rad), tr.yf_m + a * np.sin(tr.theta_rad)

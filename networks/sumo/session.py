@@ -22,10 +22,21 @@ length, width) placed at the model's trailer front (the kingpin plus the trailer
 overhang) and heading. SUMO knows nothing of the coupling; both positions come from the
 model and both are checked.
 
+Which path
+----------
+:func:`drive` runs a session in one of two places. Without FCD output, during the lane pass:
+each run is placed along its lane's centre line (:attr:`DrivenRun.run`), the model computed a
+batch ahead. With FCD output, after the swing pass (``chosen=True``): each run is placed along
+the path its verdict rests on (:attr:`DrivenRun.chosen_run`: the swung path where one was
+taken, the lane's otherwise), so that the replay shows the swing the verdict describes. The
+edge and lane hints of a swung path's placements are those of the centre line where its
+front-bumper centre is nearest (:func:`~clearance.networks.sumo.placement.centre_stations`).
+
 Replay in sumo-gui
 -----------------
 With ``DriveOptions(fcd_output=...)`` (``clearance simulate --fcd``) SUMO writes its FCD
-output (every vehicle's front-bumper centre and angle at every step). SUMO's
+output (every vehicle's front-bumper centre and angle at every step; a run's vehicle id is
+:attr:`DrivenRun.sumo_vehicle`). SUMO's
 ``tools/fcdReplay.py`` plays it back in sumo-gui (as moving points of interest) over the
 network named in a SUMO configuration (:func:`replay_config` writes one)::
 
@@ -67,11 +78,12 @@ from itertools import repeat
 import numpy as np
 
 from clearance.analysis.polyline import Path
-from clearance.analysis.tracking import TrackingSettings
+from clearance.analysis.tracking import TrackingRun, TrackingSettings
 from clearance.networks.curves import Curve
 from clearance.networks.driving.runs import DrivenRun, DriveOptions, DriveStats
 from clearance.networks.geometry import heading_rad_to_navigational
 from clearance.networks.sumo.placement import (
+    centre_stations,
     edge_of_lane,
     first_on,
     front_bumper,
@@ -120,13 +132,14 @@ class _Unit:
 
 @dataclass
 class _Plan:
-    """Everything the SUMO loop needs of one run."""
+    """Everything the SUMO loop needs of one run (``run``: the model's run it places)."""
 
     index: int
     route: str
     units: list[_Unit]
     n: int
     samples: np.ndarray
+    run: TrackingRun
     k: int = 0
     max_dev: float = 0.0
 
@@ -164,12 +177,18 @@ def _start_sumo(traci, cmd: list[str], net_path: str) -> None:  # noqa: ANN001 -
 
 
 class SumoSession:
-    """The libsumo side of :func:`drive`: vTypes, routes, placements, checks, errors."""
+    """The libsumo side of :func:`drive`: vTypes, routes, placements, checks, errors.
+
+    ``chosen``: place each run along its chosen path (:attr:`DrivenRun.chosen_run`, after
+    the swing pass) instead of its lane's (:attr:`DrivenRun.run`).
+    """
 
     def __init__(self, net_path, out: list[DrivenRun], paths: dict[str, Path],
                  settings: TrackingSettings, options: DriveOptions,
-                 lane_ends: dict[str, np.ndarray], stats: DriveStats) -> None:
+                 lane_ends: dict[str, np.ndarray], stats: DriveStats,
+                 chosen: bool = False) -> None:
         self.stats = stats
+        self.chosen = chosen
         self.net_path = str(net_path)
         self.out = out
         self.paths = paths
@@ -260,7 +279,8 @@ class SumoSession:
         reason = f"SUMO simulation step failed: {exc}"
         for plan in active.values():
             d = self.out[plan.index]
-            d.error = f"{reason} (with {len(active)} vehicles in flight)"
+            why = f"{reason} (with {len(active)} vehicles in flight)"
+            d.error = f"{d.error}; {why}" if d.error else why
             d.sumo_steps = plan.k
             d.sumo_max_deviation_m = plan.max_dev
             log.warning("%s x %s: %s", d.vehicle.name, d.curve.curve_id, d.error)
@@ -332,11 +352,22 @@ class SumoSession:
         indices = [lane_index(k) for k in lanes]
         return [edge_names[w] for w in which], [indices[w] for w in which]
 
+    def _stations(self, d: DrivenRun, run: TrackingRun, x: np.ndarray, y: np.ndarray,
+                  at: np.ndarray) -> np.ndarray:
+        """The centre line's stations of the front-bumper centres ``(x, y)`` of samples
+        ``at`` (where the edge and lane hints are looked up): on the lane's run, its own
+        stations ahead by the front overhang; on a swung path, the nearest."""
+        along = run.trajectory.s_m[at] + d.vehicle.front_overhang_m
+        if run is d.run:
+            return along
+        return centre_stations(self.paths[d.curve.curve_id], run.path, x, y, along)
+
     def _add(self, i: int) -> _Plan | None:
         d = self.out[i]
-        run = d.run
+        run = d.chosen_run if self.chosen else d.run
         assert run is not None
         vid = f"v{i}"
+        d.sumo_vehicle = vid
         try:
             tid, ttid = self._vtype(d.vehicle)
             rid = self._route(d.curve)
@@ -352,8 +383,7 @@ class SumoSession:
             at = np.append(at, n - 1)
         x, y = (c[at] for c in front_bumper(run))
         angle = np.asarray(heading_rad_to_navigational(run.trajectory.theta_rad[at]))
-        edges, lanes = self._hints(d.curve,
-                                   run.trajectory.s_m[at] + d.vehicle.front_overhang_m)
+        edges, lanes = self._hints(d.curve, self._stations(d, run, x, y, at))
         thr = self.options.match_threshold_m
 
         def unit(uid: str, vtype: str, ux: np.ndarray, uy: np.ndarray, angles: np.ndarray,
@@ -370,7 +400,7 @@ class SumoSession:
             units.append(unit(vid + ".trailer", ttid, tx, ty,
                               np.asarray(heading_rad_to_navigational(th_t)),
                               [""] * len(tx), [-1] * len(tx)))
-        return _Plan(i, rid, units, len(at), at)
+        return _Plan(i, rid, units, len(at), at, run)
 
     def _add_vehicle(self, vid: str, route: str, vtype: str) -> None:
         """Add a vehicle on its route; where SUMO refuses that route, on its first edge; where
@@ -431,9 +461,7 @@ class SumoSession:
                     move(*u.moves[k])
             except refused as exc:
                 sample = int(plan.samples[k])
-                run = self.out[plan.index].run
-                assert run is not None  # a plan is made only for a driven run (_add)
-                t_s = float(run.trajectory.t_s[sample])
+                t_s = float(plan.run.trajectory.t_s[sample])
                 self._fail(plan.index, plan.vid,
                            f"SUMO could not place vehicle {plan.vid} at t = {t_s:.2f} s "
                            f"(sample {sample}): {exc}", k, plan.max_dev, plan)
@@ -479,7 +507,8 @@ class SumoSession:
     def _fail(self, i: int, vid: str, reason: str, steps: int, dev: float,
               plan: _Plan | None = None, remove: bool = True) -> None:
         d = self.out[i]
-        d.error = reason
+        # a session after the swing pass keeps an error found before it (a verdict's)
+        d.error = f"{d.error}; {reason}" if d.error else reason
         d.sumo_steps = steps
         d.sumo_max_deviation_m = dev
         log.warning("%s x %s: %s", d.vehicle.name, d.curve.curve_id, reason)

@@ -22,9 +22,14 @@ is replaced only when it is an earlier simulate output, :data:`LAYOUT`):
     The model's states of each run (:data:`TRAJECTORY_COLUMNS`), named by
     :func:`clearance.reports.output.file_names.file_name` (letters, digits, ``.``, ``-`` and ``_``;
     a short hash of the ids when anything else was replaced or the name would be too long).
-``DIR/fcd.xml``, ``DIR/replay.sumocfg`` and ``DIR/replay.sh`` (with ``--fcd``)
-    SUMO's FCD output, a configuration and a script to replay it in sumo-gui (the command,
-    with SUMO_HOME set to the installed package, is printed).
+``DIR/fcd.xml``, ``DIR/paths.add.xml``, ``DIR/replay.sumocfg``, ``DIR/replay.sh`` (``--fcd``)
+    SUMO's FCD output, each run placed along the path its verdict rests on (the swung path
+    where one was taken, the lane's otherwise:
+    :attr:`~clearance.networks.driving.runs.DrivenRun.chosen_run`); those paths drawn as
+    lines for sumo-gui, the front-bumper centre's, coloured by verdict
+    (:func:`~clearance.reports.results.simulate_files.paths_additional`); a configuration
+    that loads the network and the paths, and a script to replay the FCD output in sumo-gui
+    (the command, with SUMO_HOME set to the installed package, is printed).
 """
 
 from __future__ import annotations
@@ -41,6 +46,7 @@ from pathlib import Path
 from clearance.analysis.tracking import TrackingSettings
 from clearance.networks.curves import DEFAULT_KINDS, KINDS, CurveOptions
 from clearance.networks.driving.drive import (
+    DrivenRun,
     DriveOptions,
     replay_config,
     select_curves,
@@ -68,9 +74,11 @@ from clearance.reports.output.output_dir import output_folder
 from clearance.reports.results.records import VERDICT_ORDER
 from clearance.reports.results.simulate_files import (
     LAYOUT,
+    PATHS_FILE,
     result_row,
     run_records,
     write_outputs,
+    write_paths,
 )
 from clearance.reports.results.text_table import format_table
 from clearance.reports.study.drives import drive_in_workers
@@ -108,7 +116,9 @@ def add_parser(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParse
     p.add_argument("--workers", type=int, default=None, metavar="N",
                    help="worker processes that drive the runs (default: one per core)")
     p.add_argument("--fcd", action="store_true",
-                   help="also write SUMO's FCD output (DIR/fcd.xml) for sumo-gui")
+                   help="also write SUMO's FCD output (DIR/fcd.xml: each run along the "
+                        "path its verdict rests on) and those paths (DIR/paths.add.xml) for "
+                        "sumo-gui")
     p.add_argument("--no-sumo", action="store_true",
                    help="compute the runs without SUMO (model, envelopes and verdicts only)")
     p.add_argument("--sumo-step", type=float, default=DriveOptions.sumo_step_s, metavar="S",
@@ -180,12 +190,8 @@ def run(args: argparse.Namespace) -> int:
         if staging is not None:
             write_outputs(staging, runs, rows, net)
             if args.fcd:
-                write_text_atomic(staging / "replay.sumocfg",
-                                  replay_config(Path(net.path).resolve(),
-                                                options.samples_per_step(settings.dt_s)
-                                                * settings.dt_s))
-                write_text_atomic(staging / "replay.sh", replay_script())
-                os.chmod(staging / "replay.sh", 0o777 & ~current_umask())
+                _write_replay(staging, runs, net.path,
+                              options.samples_per_step(settings.dt_s) * settings.dt_s)
     if args.output is not None:
         if args.fcd:
             print("replay in sumo-gui: " + replay_command(args.output / "replay.sumocfg",
@@ -196,6 +202,17 @@ def run(args: argparse.Namespace) -> int:
 
 
 # ------------------------------------------------------------------------------- replay
+
+
+def _write_replay(folder: Path, runs: Sequence[DrivenRun], net_path: str | os.PathLike[str],
+                  step_s: float) -> None:
+    """The chosen paths (``paths.add.xml``), the replay's configuration (the network and
+    those paths) and ``replay.sh``, beside ``fcd.xml``."""
+    write_paths(folder / PATHS_FILE, runs, network_name(Path(net_path)))
+    write_text_atomic(folder / "replay.sumocfg",
+                      replay_config(Path(net_path).resolve(), step_s, [PATHS_FILE]))
+    write_text_atomic(folder / "replay.sh", replay_script())
+    os.chmod(folder / "replay.sh", 0o777 & ~current_umask())
 
 
 # ------------------------------------------------------------------------------- rows

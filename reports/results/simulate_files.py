@@ -1,6 +1,7 @@
 """The files of ``clearance simulate -o DIR``: results.csv, one trajectory CSV per run, the
 envelopes as GeoJSON; the rows filled by the same definitions as ``clearance report``'s
-clearance.csv (:func:`run_records`, :mod:`clearance.reports.results.feedback`)."""
+clearance.csv (:func:`run_records`, :mod:`clearance.reports.results.feedback`); with
+``--fcd`` the runs' chosen paths as a sumo-gui additional file (:func:`paths_additional`)."""
 
 from __future__ import annotations
 
@@ -11,14 +12,18 @@ from collections.abc import Iterable, Sequence
 from pathlib import Path
 
 import numpy as np
+from lxml import etree
+from shapely.geometry import LineString
 
 from clearance.networks.driving.drive import (
     DrivenRun,
 )
 from clearance.networks.model import Network
-from clearance.reports.exports.envelopes import EnvelopeRecord
+from clearance.networks.sumo.placement import front_bumper
+from clearance.reports.exports.envelopes import VERDICT_RGBA, EnvelopeRecord
 from clearance.reports.exports.geojson import write_geojson
-from clearance.reports.output.atomic import write_text_atomic
+from clearance.reports.exports.sumo import VERDICT_LAYER, sumo_id
+from clearance.reports.output.atomic import write_bytes_atomic, write_text_atomic
 from clearance.reports.output.file_names import file_name
 from clearance.reports.output.output_dir import Layout
 from clearance.reports.results.feedback import set_serves_up_to
@@ -29,9 +34,10 @@ from clearance.reports.study.batch import (
 from clearance.reports.study.run import network_name
 from clearance.vehicles.table import VehicleTable
 
-__all__ = ["LAYOUT", "RESULT_COLUMNS", "TRAILER_COLUMNS", "TRAJECTORY_COLUMNS", "csv_text",
-           "envelope_records", "result_row", "run_records", "trajectory_csv",
-           "trajectory_files", "write_outputs"]
+__all__ = ["LAYOUT", "PATH_LINE_WIDTH_M", "PATH_POINT", "PATHS_FILE", "RESULT_COLUMNS",
+           "TRAILER_COLUMNS", "TRAJECTORY_COLUMNS", "csv_text", "envelope_records",
+           "paths_additional", "result_row", "run_records", "trajectory_csv",
+           "trajectory_files", "write_outputs", "write_paths"]
 
 
 #: Columns of ``results.csv``.
@@ -73,7 +79,7 @@ TRAILER_COLUMNS = ("xt_m", "yt_m", "theta_t_rad", "psi_rad")
 LAYOUT = Layout(
     "simulate",
     files=frozenset({"results.csv", "envelopes.geojson", "fcd.xml", "replay.sumocfg",
-                     "replay.sh"}),
+                     "replay.sh", "paths.add.xml"}),
     folders={"trajectories": (".csv",)},
     signature=("results.csv", ",".join(RESULT_COLUMNS[:4])),
 )
@@ -176,3 +182,80 @@ def write_outputs(out_dir: Path, runs: Sequence[DrivenRun], rows: Sequence[dict[
     write_geojson(out_dir / "envelopes.geojson", envelope_records(runs, name),
                   {name: net.location})
     write_text_atomic(out_dir / "results.csv", csv_text(rows, RESULT_COLUMNS))
+
+
+#: The chosen paths' additional file of ``clearance simulate --fcd`` (beside ``fcd.xml``).
+PATHS_FILE = "paths.add.xml"
+
+#: Width of a drawn path in sumo-gui (m): a thin line over the lanes.
+PATH_LINE_WIDTH_M = 0.15
+
+#: What a drawn path is: SUMO's reference point, the one the FCD output places.
+PATH_POINT = "front-bumper centre"
+
+_ERROR_RGBA = (128, 128, 128, 255)
+
+
+def paths_additional(runs: Sequence[DrivenRun], network: str = "") -> bytes:
+    """A sumo-gui additional file that draws each run's chosen path (XML bytes).
+
+    The path drawn is that of the **front-bumper centre** (SUMO's reference point, what the
+    FCD output places; not the front axle's) along the trajectory the run's verdict rests
+    on (:attr:`~clearance.networks.driving.runs.DrivenRun.chosen_run`: the swung path where
+    one was taken, the lane's otherwise), in the network's coordinates, to the millimetre
+    (points within 5 mm of a straight line between their neighbours left out).
+
+    Each run is one ``<poly>``, a line (``fill="0"``, ``lineWidth`` :data:`PATH_LINE_WIDTH_M`),
+    ``id="path:<vehicle>:<curve>"`` (SUMO-safe, a suffix where two come out equal),
+    ``type="path:<verdict>"``, opaque in the verdict's colour
+    (:data:`~clearance.reports.exports.envelopes.VERDICT_RGBA`; grey for a run with an
+    error), on a layer above the swept envelopes'; its ``<param>`` children: network,
+    vehicle, curve_id, kind, verdict, path (``lane`` or ``swung``), swing_m, margin_m,
+    point (``front-bumper centre``) and sumo_vehicle (the run's id in the FCD output). A run
+    that was not modelled is left out.
+
+    Examples
+    --------
+    >>> text = paths_additional([]).decode()
+    >>> text.splitlines()[1].startswith("<additional")
+    True
+    """
+    root = etree.Element("additional")
+    root.set("{http://www.w3.org/2001/XMLSchema-instance}noNamespaceSchemaLocation",
+             "http://sumo.dlr.de/xsd/additional_file.xsd")
+    used: set[str] = set()
+    for r in runs:
+        run = r.chosen_run
+        if run is None:
+            continue
+        line = LineString(np.column_stack(front_bumper(run))).simplify(0.005)
+        if line.length <= 0.0:
+            continue
+        base = f"path:{sumo_id(r.vehicle.name)}:{sumo_id(r.curve.curve_id)}"
+        pid, k = base, 1
+        while pid in used:
+            k += 1
+            pid = f"{base}~{k}"
+        used.add(pid)
+        verdict = r.verdict
+        rgba = (*VERDICT_RGBA[verdict][:3], 255) if verdict in VERDICT_RGBA else _ERROR_RGBA
+        poly = etree.SubElement(root, "poly", id=pid, type=f"path:{verdict}",
+                                color=",".join(map(str, rgba)), fill="0",
+                                lineWidth=f"{PATH_LINE_WIDTH_M:g}",
+                                layer=str(VERDICT_LAYER.get(verdict, 9) + 10),
+                                shape=" ".join(f"{_num(x)},{_num(y)}"
+                                               for x, y, *_ in line.coords))
+        params = {"network": network, "vehicle": r.vehicle.name, "curve_id": r.curve.curve_id,
+                  "kind": r.curve.kind, "verdict": verdict, "path": r.path,
+                  "swing_m": _num(r.swing_m),
+                  "margin_m": _num(r.result.margin_m if r.result and not r.error else None),
+                  "point": PATH_POINT, "sumo_vehicle": r.sumo_vehicle}
+        for key, value in params.items():
+            if value:
+                etree.SubElement(poly, "param", key=key, value=value)
+    return etree.tostring(root, xml_declaration=True, encoding="UTF-8", pretty_print=True)
+
+
+def write_paths(path: Path, runs: Sequence[DrivenRun], network: str = "") -> Path:
+    """Write :func:`paths_additional` to ``path`` atomically."""
+    return write_bytes_atomic(path, paths_additional(runs, network))

@@ -7,15 +7,19 @@ import io
 import json
 import os
 import subprocess
+import xml.etree.ElementTree as ET
 from types import SimpleNamespace
 
 import numpy as np
 import pytest
+from shapely.geometry import LineString, Point
 
 from clearance.networks.samples import build as samples
 from clearance.networks.selection import Selection
 from clearance.networks.sumo import placement
+from clearance.networks.sumo.tools import find_sumo_binary, sumo_home
 from clearance.reports.cli.main import main
+from clearance.reports.exports.envelopes import VERDICT_RGBA
 from clearance.reports.output.file_names import file_name
 from clearance.reports.results import simulate_files
 from clearance.reports.results.tables import clearance_csv
@@ -77,8 +81,16 @@ def test_results_hold_the_designed_verdicts(outputs):
 
 def test_outputs_are_byte_identical_between_runs(outputs):
     a, b = outputs
-    for name in ("results.csv", "envelopes.geojson"):
+    for name in ("envelopes.geojson",):
         assert (a / name).read_bytes() == (b / name).read_bytes(), name
+    # with --fcd (a) SUMO places a swung run along its swung path, not its lane's: only its
+    # count of SUMO steps differs
+    with_fcd, without = _results(a), _results(b)
+    assert list(with_fcd) == list(without)
+    for key, row in with_fcd.items():
+        if row["path"] == "swung":
+            del row["sumo_steps"], without[key]["sumo_steps"]
+    assert with_fcd == without
     files = sorted(p.name for p in (a / "trajectories").iterdir())
     assert files == sorted(p.name for p in (b / "trajectories").iterdir())
     assert len(files) == 4 and "CITY-BUS__turn_X_XN_in_0-_XW_out_0~f63c83019f58a091.csv" in files
@@ -120,6 +132,50 @@ def test_fcd_and_replay_config(outputs, capsys):
     assert 'net-file value="' in (a / "replay.sumocfg").read_text()
     assert not (b / "fcd.xml").exists()
     assert not list(a.glob(".*tmp"))
+
+
+def _fcd_points(fcd, vid):
+    """The FCD's (x, y) of vehicle ``vid``, step by step."""
+    root = ET.parse(fcd).getroot()
+    return np.array([(float(v.get("x")), float(v.get("y"))) for ts in root.iter("timestep")
+                     for v in ts.iter("vehicle") if v.get("id") == vid])
+
+
+def test_paths_drawn_for_sumo_gui_are_the_replayed_ones(outputs):
+    a, _ = outputs
+    assert 'additional-files value="paths.add.xml"' in (a / "replay.sumocfg").read_text()
+    rows = _results(a)
+    polys = ET.parse(a / "paths.add.xml").getroot().findall("poly")
+    assert len(polys) == len(rows) == 4
+    deviations = {}
+    for poly in polys:
+        params = {p.get("key"): p.get("value") for p in poly.findall("param")}
+        row = rows[(params["vehicle"], params["curve_id"])]
+        assert (params["verdict"], params["path"]) == (row["verdict"], row["path"])
+        assert params["point"] == "front-bumper centre"
+        assert poly.get("fill") == "0" and float(poly.get("lineWidth")) < 0.5
+        assert poly.get("type") == f"path:{row['verdict']}"
+        rgb = tuple(int(c) for c in poly.get("color").split(","))[:3]
+        assert rgb == VERDICT_RGBA[row["verdict"]][:3]
+        # the line drawn is where the replay's point of that run goes
+        line = LineString([tuple(map(float, xy.split(","))) for xy in poly.get("shape").split()])
+        shown = _fcd_points(a / "fcd.xml", params["sumo_vehicle"])
+        assert len(shown) == int(row["sumo_steps"])
+        deviations[params["vehicle"], params["curve_id"]] = max(
+            line.distance(Point(p)) for p in shown)
+    assert max(deviations.values()) < 0.02, deviations  # the FCD keeps 2 decimals
+
+
+def test_paths_and_replay_config_load_in_sumo(outputs, tmp_path):
+    a, _ = outputs
+    sumo = str(find_sumo_binary("sumo"))
+    env = {**os.environ, "SUMO_HOME": str(sumo_home())}  # SUMO_HOME: validated by the XSD
+    for args in (["-n", str(NET), "-a", str(a / "paths.add.xml")],
+                 ["-c", str(a / "replay.sumocfg")]):
+        proc = subprocess.run([sumo, *args, "--end", "1", "--xml-validation", "always",
+                               "--no-step-log"], capture_output=True, text=True, env=env,
+                              cwd=tmp_path, timeout=120)
+        assert proc.returncode == 0, (args, proc.stderr)
 
 
 def test_the_printed_replay_command_runs_after_a_pip_install(outputs, tmp_path):
@@ -289,3 +345,29 @@ def test_a_curve_whose_lanes_do_not_admit_the_vehicle_is_not_driven(tmp_path, ca
     err = capsys.readouterr().err
     assert "no selected curve admits" in err and "passenger" in err
     assert not (tmp_path / "none" / "results.csv").exists()
+
+
+def test_paths_additional_greys_errors_and_skips_unmodelled_runs():
+    t = np.linspace(0.0, 1.0, 11)
+    trajectory = SimpleNamespace(xf_m=10.0 * t, yf_m=0.0 * t, theta_rad=0.0 * t)
+    run = SimpleNamespace(trajectory=trajectory, vehicle=SimpleNamespace(front_overhang_m=1.0))
+
+    def driven(verdict, chosen, error=""):
+        return SimpleNamespace(
+            chosen_run=chosen, vehicle=SimpleNamespace(name="bus 1"),
+            curve=SimpleNamespace(curve_id="turn:J", kind="turn"), verdict=verdict,
+            path="lane", swing_m=0.0, error=error, sumo_vehicle="v0",
+            result=SimpleNamespace(margin_m=-0.25))
+
+    runs = [driven("fails", run), driven("error", run, "SUMO lost it"), driven("clear", None)]
+    root = ET.fromstring(simulate_files.paths_additional(runs, "net"))
+    first, second = root.findall("poly")  # the run never modelled is left out
+    assert (first.get("id"), second.get("id")) == ("path:bus_1:turn_J", "path:bus_1:turn_J~2")
+    assert first.get("color") == "220,0,0,255" and second.get("color") == "128,128,128,255"
+    assert second.get("type") == "path:error"
+    # the front-bumper centre's path: the front axle's ahead by the front overhang
+    assert first.get("shape") == "1.000,0.000 11.000,0.000"
+    params = [{p.get("key"): p.get("value") for p in poly.findall("param")}
+              for poly in (first, second)]
+    assert params[0]["margin_m"] == "-0.250" and "margin_m" not in params[1]
+    assert params[0]["point"] == "front-bumper centre" and params[0]["network"] == "net"

@@ -7,6 +7,7 @@ import xml.etree.ElementTree as ET
 
 import numpy as np
 import pytest
+from shapely.geometry import LineString, Point
 
 from clearance.analysis.clearance import VERDICTS
 from clearance.networks.curves import extract_curves
@@ -158,6 +159,70 @@ def test_fcd_output_replays_the_model(nets, table, tmp_path, sumo_step_s, every)
         heading = math.radians(90.0 - float(veh.get("angle")))
         theta = run.run.trajectory.theta_rad[at[k]]
         assert math.remainder(heading - theta, 2 * math.pi) == pytest.approx(0.0, abs=1e-3)
+
+
+def _fcd_points(fcd) -> dict[str, np.ndarray]:
+    """Each FCD vehicle's (x, y), step by step."""
+    points: dict[str, list[tuple[float, float]]] = {}
+    for step in ET.parse(fcd).getroot().iter("timestep"):
+        for veh in step.iter("vehicle"):
+            points.setdefault(veh.get("id"), []).append((float(veh.get("x")),
+                                                         float(veh.get("y"))))
+    return {vid: np.array(p) for vid, p in points.items()}
+
+
+@pytest.mark.parametrize("name, vehicle, start, end", [
+    ("intersection", "CITY-BUS", "turn:X:XN_in_0", "XW_out_0"),
+    ("roundabout", "WB-62", "roundabout:R0:R0_in_", "R1_out_"),
+], ids=["bus", "semitrailer"])
+def test_fcd_output_follows_the_swung_path(nets, table, tmp_path, name, vehicle, start, end):
+    # a run whose verdict rests on a swung path is shown in SUMO along that path
+    net, curves = nets[name]
+    curve = _curve(curves, start, end)
+    fcd = tmp_path / "fcd.xml"
+    hints: list[str] = []
+    real = libsumo.vehicle.moveToXY
+
+    def spy(vid, edge, lane, *args, **kwargs):
+        if vid == "v0" and (not hints or hints[-1] != edge):
+            hints.append(edge)
+        return real(vid, edge, lane, *args, **kwargs)
+
+    mp = pytest.MonkeyPatch()
+    mp.setattr(libsumo.vehicle, "moveToXY", spy)
+    try:
+        (run,) = drive(net, [(table.vehicle(vehicle), curve)],
+                       options=DriveOptions(fcd_output=fcd))
+    finally:
+        mp.undo()
+    assert run.error == "" and run.path == "swung" and run.lane_verdict == "fails"
+    chosen = run.chosen_run
+    assert chosen is run.result.run and chosen is not run.run
+    at = _shown(len(chosen.trajectory))
+    assert run.sumo_vehicle == "v0"
+    assert run.sumo_steps == len(at) and run.sumo_max_deviation_m < 1e-6
+    shown = _fcd_points(fcd)
+    x, y = placement.front_bumper(chosen)
+    assert np.abs(shown["v0"] - np.column_stack([x[at], y[at]])).max() < 0.006  # 2 decimals
+    # ... which is not the lane's: the swing is there to see
+    lane = LineString(np.column_stack(placement.front_bumper(run.run)))
+    assert max(lane.distance(Point(p)) for p in shown["v0"]) > 0.3
+    if chosen.vehicle.trailer is not None:  # the trailer joins later, and swings too
+        tx, ty, _ = placement.trailer_front(chosen)
+        tail = at[len(at) - len(shown["v0.trailer"]):]
+        assert np.abs(shown["v0.trailer"] - np.column_stack([tx[tail], ty[tail]])).max() < 0.006
+    # the swung path's placements are hinted with the curve's edges, in order
+    edges = list(dict.fromkeys(placement.edge_of_lane(k) for k in curve.lanes))
+    assert hints == edges
+
+
+def test_without_fcd_sumo_checks_the_lane_path(nets, table):
+    net, curves = nets["intersection"]
+    (run,) = drive(net, [(table.vehicle("CITY-BUS"), _curve(curves, "turn:X:XN_in_0",
+                                                             "XW_out_0"))])
+    assert run.path == "swung" and run.chosen_run is run.result.run
+    assert run.sumo_steps == len(_shown(len(run.run.trajectory)))
+    assert run.sumo_steps != len(_shown(len(run.chosen_run.trajectory)))
 
 
 def test_sumo_step_changes_neither_paths_nor_verdicts(nets, table, driven):
