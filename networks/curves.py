@@ -61,6 +61,7 @@ from clearance.networks.paths import (
     plan_path,
     realise,
     steady_lead_ins,
+    steady_run_outs,
     via_lanes,
 )
 from clearance.networks.profiles import Stations, profiles
@@ -260,7 +261,8 @@ def _measure(
 ) -> list[Curve]:
     if not items:
         return []
-    paths = steady_lead_ins(realise(net, [it[3] for it in items]), opts.step_m, opts.window_m)
+    paths = steady_run_outs(steady_lead_ins(realise(net, [it[3] for it in items]), opts.step_m,
+                                            opts.window_m), opts.step_m, opts.window_m)
     prof = profiles(
         [p.centerline for p in paths],
         [p.core_start_m for p in paths],

@@ -62,6 +62,10 @@ class Lane:
     shape: np.ndarray
     length_m: float
     speed_mps: float
+    #: True when the file gives the lane's ``width``; False when SUMO's default is taken
+    #: (netconvert writes a width only where its input had one:
+    #: :mod:`clearance.networks.provenance`).
+    width_given: bool = True
 
     @property
     def is_internal(self) -> bool:
@@ -127,6 +131,10 @@ class Junction:
     shape: np.ndarray
     inc_lanes: tuple[str, ...]
     int_lanes: tuple[str, ...]
+    #: ``customShape="1"``: the polygon was drawn by someone, not computed by netconvert.
+    custom_shape: bool = False
+    #: The corner radius the file gives (``radius``, m); NaN when netconvert's default applies.
+    radius_m: float = float("nan")
 
 
 @dataclass(frozen=True, slots=True)

@@ -23,7 +23,7 @@ from clearance.networks.profiles import profiles
 __all__ = ["EXTEND_DIRECTIONS", "LEAD_KEEP_M", "LEAD_MIN_RADIUS_M", "MAX_EXTENSION_LANES",
            "NOT_ROADS", "Path", "PathPlan", "build_path", "drivable", "extend_back",
            "extend_forward", "junction_of_internal", "lane_length", "plan_path", "realise",
-           "steady_lead_ins", "via_lanes"]
+           "steady_lead_ins", "steady_run_outs", "via_lanes"]
 
 #: Preference among connection directions when a path is extended (straight on first).
 _DIR_RANK = {"s": 0, "R": 1, "L": 2, "r": 3, "l": 4, "t": 6}
@@ -385,28 +385,75 @@ def steady_lead_ins(paths: list[Path], step_m: float, window_m: float) -> list[P
 
     The lead-in is for bringing the vehicle to the feature in a steady state; extended
     back straight on only (:mod:`clearance.networks.paths`), it can still hold a tight corner
-    inside a lane (an OSM service road's). The line then starts one fitting window after
-    the last station, more than :data:`LEAD_KEEP_M` and a fitting window before the
-    feature, whose radius is under :data:`LEAD_MIN_RADIUS_M`, and never closer to the feature than
-    :data:`LEAD_KEEP_M`. The same for every vehicle (paths are cut in place).
+    inside a lane (an OSM service road's) or a previous junction's kink. The line then starts
+    one fitting window after the last station, more than :data:`LEAD_KEEP_M` and a fitting
+    window before the feature, whose radius is under :data:`LEAD_MIN_RADIUS_M`, and never
+    closer to the feature than :data:`LEAD_KEEP_M`. The same for every vehicle (paths are cut
+    in place). :func:`steady_run_outs` does the same after the feature.
     """
+    cuts = _tight_cuts([p.centerline for p in paths], [p.core_start_m for p in paths],
+                       step_m, window_m)
+    for p, cut in zip(paths, cuts, strict=True):
+        if cut > 0:
+            p.centerline = cut_polyline(p.centerline, cut, math.inf)
+            p.core_start_m -= cut
+            p.core_end_m -= cut
+    return paths
+
+
+def steady_run_outs(paths: list[Path], step_m: float, window_m: float) -> list[Path]:
+    """The paths with each run-out cut to end before its first tight stretch: a corner or a
+    kink of the exit lane, or of the next junction it was extended through, more than
+    :data:`LEAD_KEEP_M` and a fitting window after the feature is the next curve's, and a
+    conflict there is not this feature's (the mirror of :func:`steady_lead_ins`).
+
+    Examples
+    --------
+    A feature at 10-12 m on a line that turns on an 8 m radius 25 m after it: the run-out
+    ends before that corner; a straight run-out is kept whole.
+
+    >>> t = np.linspace(0.0, np.pi / 2, 20)
+    >>> arc = np.column_stack([37 + 8 * np.sin(t), 8 - 8 * np.cos(t), 0 * t])
+    >>> line = np.vstack([[[0.0, 0, 0]], arc, [[45.0, 30.0, 0]]])
+    >>> p = Path(("a",), line, 10.0, 12.0, ("a",))
+    >>> end = steady_run_outs([p], 1.0, 6.0)[0].centerline[-1]
+    >>> bool(17.0 <= end[0] < 37.0 and end[1] == 0.0)
+    True
+    >>> q = Path(("a",), np.array([[0.0, 0, 0], [60.0, 0, 0]]), 10.0, 12.0, ("a",))
+    >>> float(steady_run_outs([q], 1.0, 6.0)[0].centerline[-1, 0])
+    60.0
+    """
+    lines, ends = [], []
+    for p in paths:
+        d = np.diff(p.centerline[:, :2], axis=0)
+        total = float(np.hypot(d[:, 0], d[:, 1]).sum())
+        lines.append(np.ascontiguousarray(p.centerline[::-1]))
+        ends.append(total - p.core_end_m)
+    cuts = _tight_cuts(lines, ends, step_m, window_m)
+    for p, cut, end in zip(paths, cuts, ends, strict=True):
+        if cut > 0:
+            p.centerline = cut_polyline(p.centerline, 0.0, p.core_end_m + end - cut)
+    return paths
+
+
+def _tight_cuts(lines: list[np.ndarray], core_at_m: list[float], step_m: float,
+                window_m: float) -> list[float]:
+    """For each line whose feature starts at ``core_at_m``: how far to cut from its start so
+    that it starts one fitting window after its last stretch tighter than
+    :data:`LEAD_MIN_RADIUS_M` (0: no cut); see :func:`steady_lead_ins`."""
     # stations whose fitting window (a fixed one) stays clear of the feature's own bend
     reach = LEAD_KEEP_M + window_m
-    lead = [p for p in paths if p.core_start_m > reach + window_m]
+    cuts = [0.0] * len(lines)
+    lead = [n for n, at in enumerate(core_at_m) if at > reach + window_m]
     if not lead:
-        return paths
-    prof = profiles([p.centerline for p in lead], [0.0] * len(lead),
-                    [p.core_start_m - reach for p in lead], step_m, window_m,
+        return cuts
+    prof = profiles([lines[n] for n in lead], [0.0] * len(lead),
+                    [core_at_m[n] - reach for n in lead], step_m, window_m,
                     margin_m=0.0, adaptive=False)
-    for n, p in enumerate(lead):
-        s, k = prof.stations[n].array(), prof.curvature_per_m[n]
-        tight = np.flatnonzero(radius_from_curvature(k) < LEAD_MIN_RADIUS_M)
+    for k, n in enumerate(lead):
+        s, curvature = prof.stations[k].array(), prof.curvature_per_m[k]
+        tight = np.flatnonzero(radius_from_curvature(curvature) < LEAD_MIN_RADIUS_M)
         if not len(tight):
             continue
-        cut = min(float(s[tight[-1]]) + window_m, p.core_start_m - LEAD_KEEP_M)
-        if cut <= 0:
-            continue
-        p.centerline = cut_polyline(p.centerline, cut, math.inf)
-        p.core_start_m -= cut
-        p.core_end_m -= cut
-    return paths
+        cuts[n] = max(0.0, min(float(s[tight[-1]]) + window_m, core_at_m[n] - LEAD_KEEP_M))
+    return cuts

@@ -217,17 +217,18 @@ class _ParseState:
                                        file=self.path)
                 width = get("width")
                 width_m = float(width) if width is not None else DEFAULT_LANE_WIDTH_M
+                given = width is not None
                 if not 0.0 < width_m <= MAX_LANE_WIDTH_M:  # NaN too; SUMO loads them
                     self.repairs.append(
                         f"lane {lane_id!r}: width {width!r} is not a lane width in "
                         f"(0, {MAX_LANE_WIDTH_M:g}] m: taken as SUMO's default "
                         f"{DEFAULT_LANE_WIDTH_M} m")
-                    width_m = DEFAULT_LANE_WIDTH_M
+                    width_m, given = DEFAULT_LANE_WIDTH_M, False
                 self.lane_shapes.append(get("shape") or "")
                 self.lanes[lane_id] = Lane(
                     lane_id, edge.id, int(get("index", "0")), width_m,
                     edge.function, resolve_allowed(get("allow"), get("disallow")), EMPTY_SHAPE,
-                    float(get("length", "nan")), float(get("speed", "nan")))
+                    float(get("length", "nan")), float(get("speed", "nan")), given)
                 edge.lanes.append(lane_id)
             elif tag == "edge":
                 edge_id = get("id")
@@ -268,6 +269,8 @@ class _ParseState:
                 EMPTY_SHAPE,
                 tuple((get("incLanes") or "").split()),
                 tuple((get("intLanes") or "").split()),
+                get("customShape") in ("1", "true"),
+                float(get("radius", "nan")),
             )
         elif tag == "roundabout":
             self.roundabouts.append(
