@@ -221,8 +221,10 @@ def run(args: argparse.Namespace) -> int:
         if key in waived.too_bad:
             w = waived.too_bad[key]
             note = f" (worse than {w.where} accepts: {w.verdict})"
-        print(f"{r.network}: {r.curve_id}: {r.vehicle}: {r.verdict} ({r.margin_m:+.2f} m)"
-              f"{note}")
+        where = f", worst {r.conflict_at}" if r.conflict_at else ""
+        rests = f"; rests on {r.geometry}" if r.geometry and r.geometry != "data" else ""
+        print(f"{r.network}: {r.curve_id}: {r.vehicle}: {r.verdict} ({r.margin_m:+.2f} m"
+              f"{where}){note}{rests}")
     vertical = _vertical_failures(frame, allowed)
     print(f"{len(frame)} runs, {len(waived)} waived, {len(failing)} not allowed "
           f"(allowed: {', '.join(sorted(allowed))}); {vertical} with a vertical finding "

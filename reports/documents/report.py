@@ -31,6 +31,7 @@ from clearance.reports.results.feedback import (
     serves_sentence,
     size_order,
 )
+from clearance.reports.results.provenance import provenance_summary
 from clearance.reports.results.records import RunRecord
 from clearance.reports.results.text_table import counted
 from clearance.reports.results.units import length_scale, text_in_units
@@ -201,6 +202,9 @@ def network_notes(study: Study, nc: NetworkCurves) -> list[str]:
         out.append("Not run, the curve's lanes not admitting the vehicle's SUMO class: "
                    + ", ".join(f"{v} ({classes.get(v, '?')}) {counted(n, 'curve')}"
                                for v, n in refused.items()) + ".")
+    rests = rests_on_words([r for r in study.records if r.network == nc.name])
+    if rests:
+        out.append(rests)
     repairs = nc.network.repairs
     if repairs:
         shown = "; ".join(repairs[:MAX_REPAIRS_SHOWN])
@@ -209,6 +213,38 @@ def network_notes(study: Study, nc: NetworkCurves) -> list[str]:
                    f"can be judged on {'was' if len(repairs) == 1 else 'were'} repaired or "
                    f"left out: {shown}" + (f"; and {more} more." if more > 0 else "."))
     return out
+
+
+def rests_on_words(records: list) -> str:
+    """What a network's runs that are not clear rest on, in words: data or netconvert's
+    defaults, and the defaults that carry most of them (:mod:`clearance.networks.provenance`).
+
+    >>> from types import SimpleNamespace as R
+    >>> print(rests_on_words([R(verdict="fails", geometry="lane width default 3.2 m"),
+    ...                       R(verdict="encroaches", geometry="data"),
+    ...                       R(verdict="clear", geometry="data")]))
+    ... # doctest: +NORMALIZE_WHITESPACE
+    Of 2 runs not clear, 1 rests on the network's data and 1 on netconvert's defaults
+    (lane width default 3.2 m: 1 run): check those against the street before acting on them.
+    >>> rests_on_words([R(verdict="clear", geometry="data")])
+    ''
+    """
+    frame = pd.DataFrame({"network": "n", "verdict": [r.verdict for r in records],
+                          "geometry": [r.geometry for r in records]})
+    if frame.empty:
+        return ""
+    split = provenance_summary(frame)["n"]
+    n = split["not_clear"]
+    if not n["runs"]:
+        return ""
+    text = (f"Of {counted(n['runs'], 'run')} not clear, {n['on_data']} "
+            f"{'rests' if n['on_data'] == 1 else 'rest'} on the network's data and "
+            f"{n['on_defaults']} on netconvert's defaults")
+    if n["on_defaults"]:
+        text += (" (" + "; ".join(f"{k}: {counted(v, 'run')}" for k, v
+                                  in list(split["defaults_carrying"].items())[:4])
+                 + "): check those against the street before acting on them")
+    return text + "."
 
 
 def pick_envelopes(records: list, limit: int = MAX_ENVELOPES) -> list:
@@ -268,6 +304,12 @@ def run_words(r, units: str = "m") -> str:
     reason = getattr(r, "reason", "")
     if reason and (getattr(r, "path", "lane") == "swung" or r.verdict != "clear"):
         text += f": {text_in_units(reason, units)}"
+    where = getattr(r, "conflict_at", "")
+    if where and r.verdict != "clear":
+        text += f"; worst conflict {text_in_units(where, units)}"
+    rests = getattr(r, "geometry", "")
+    if rests and rests != "data" and r.verdict != "clear":
+        text += f"; rests on {text_in_units(rests, units)}"
     return text
 
 

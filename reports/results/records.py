@@ -22,7 +22,7 @@ COLUMNS = ["network", "vehicle", "curve_id", "kind", "junction", "verdict", "mar
            "paved_margin_m", "curve_radius_m", "vehicle_min_radius_m", "swept_width_m",
            "available_width_m", "max_offtracking_m", "max_tracking_error_m", "turn_angle_deg",
            "max_grade_pct", "method", "clearance_m", "lane_verdict", "lane_margin_m", "path",
-           "encroaches_on", "reason",
+           "encroaches_on", "reason", "geometry", "conflict_at",
            "vertical", "vertical_margin_m", "vertical_station_m", "vertical_part", "grade_limit_pct", "suspect_elevation",  # noqa: E501 - vertical checks
            "serves_up_to", "serves_encroaching_up_to", "overreach_station_m", "overreach_x",
            "overreach_y", "extra_width_m"]
@@ -95,6 +95,12 @@ class RunRecord:
     overreach_x: float = math.nan
     overreach_y: float = math.nan
     extra_width_m: float = math.nan
+    #: The netconvert defaults the verdict rests on, in words (``lane width default 3.2 m;
+    #: corner computed (r 3.1 m)``), or ``data`` (:mod:`clearance.networks.provenance`).
+    geometry: str = ""
+    #: Where the worst conflict lies (:mod:`clearance.networks.places`): ``approach E1 9.8 m
+    #: before J5``, ``in junction J5``, ``exit E3 2.0 m after J5``; ``""`` for a clear run.
+    conflict_at: str = ""
     #: A swung run's line (:class:`clearance.networks.driving.runs.SwungLine`), with which a drawing
     #: drives it again without the search (:func:`clearance.reports.documents.drawing.rerun`);
     #: ``None`` on the

@@ -15,6 +15,8 @@ from pathlib import Path
 
 import pandas as pd
 
+from clearance.networks.provenance import read_header
+from clearance.reports.results.provenance import header_summary, provenance_summary
 from clearance.reports.results.units import to_output_units
 from clearance.reports.results.waivers import Waived
 from clearance.reports.study.run import VERDICT_ORDER, Study
@@ -110,6 +112,7 @@ def summary(study: Study, vehicle_tables: list[Path],
         "by_network": counts(frame, "network"),
         "by_vehicle": counts(frame, "vehicle"),
         "paths": paths(frame),
+        "geometry": provenance_summary(frame),
         "vertical": {
             "max_grade_pct": study.max_grade_pct,
             "findings": {f: int(frame.vertical.str.contains(f, regex=False).sum())
@@ -130,7 +133,8 @@ def summary(study: Study, vehicle_tables: list[Path],
             "networks": [{"name": n.name, "path": str(n.path), "sha256": sha256_of(n.path),
                           "junctions": sum(not j.startswith(":")
                                            for j in n.network.junctions),
-                          "curves": len(n.curves)} for n in study.networks],
+                          "curves": len(n.curves),
+                          **header_summary(read_header(n.path))} for n in study.networks],
             "vehicle_tables": [{"path": str(p), "sha256": sha256_of(p)}
                                for p in vehicle_tables],
             "vehicles": list(study.table.names),

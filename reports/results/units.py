@@ -21,7 +21,7 @@ __all__ = ["TEXT_COLUMNS", "length_scale", "text_in_units", "to_output_units"]
 
 #: Free-text columns whose lengths :func:`to_output_units` converts (the reasons the
 #: analysis writes in metres, and the suspect-height notes of the network reader).
-TEXT_COLUMNS = ("reason", "suspect_elevation")
+TEXT_COLUMNS = ("reason", "suspect_elevation", "geometry", "conflict_at")
 
 #: Metres per unit of the length units a text may use.
 _LENGTH_UNITS = {"mm": 1e-3, "cm": 1e-2, "m": 1.0, "km": 1e3}

@@ -49,6 +49,7 @@ from clearance.networks.model import ROAD_VCLASSES, Network
 from clearance.networks.permissions import permits
 from clearance.networks.selection import Selection, check_junctions, load_selected
 from clearance.reports.results.feedback import set_serves_up_to
+from clearance.reports.results.provenance import set_provenance
 from clearance.reports.results.records import COLUMNS, VERDICT_ORDER, RunRecord
 from clearance.reports.results.vertical import add_vertical
 from clearance.reports.study.batch import Batch, bare, lost_batch, run_batch, split_batch
@@ -350,6 +351,7 @@ def run_study(
     add_vertical(records, {(n.name, c.curve_id): c for n in nets for c in n.curves},
                  vehicles, max_grade_pct)
     set_serves_up_to(records, table)
+    set_provenance(records, nets)
     return Study(records, nets, table, method, clearance_m, sorted(refused), max_grade_pct)
 
 

@@ -151,8 +151,8 @@ def test_waivers_pass_the_gate_and_are_listed(tmp_path, capsys):
                  "bend:*,*,fails,matches nothing\n")
     assert main(RAMP_P + ["--lane-only", "--waivers", str(w)]) == 1
     captured = capsys.readouterr()
-    assert ("parking_ramp: ramp:helix_0->helix_0: P: fails (-0.13 m) (worse than "
-            f"{w}:3 accepts: encroaches)") in captured.out
+    assert ("parking_ramp: ramp:helix_0->helix_0: P: fails (-0.13 m, worst on the ramp from "
+            f"H0) (worse than {w}:3 accepts: encroaches)") in captured.out
     assert "3 runs, 0 waived, 1 not allowed" in captured.out
     assert f"{w}:4: waiver matches no run" in captured.err
     w.write_text(w.read_text().replace("*,encroaches,only encroaching is accepted",

@@ -28,7 +28,7 @@ from clearance.reports.cli.main import main
 from clearance.reports.results.feedback import overreach_words
 from clearance.reports.results.records import COLUMNS
 from clearance.reports.results.tables import clearance_csv
-from clearance.reports.results.units import text_in_units, to_output_units
+from clearance.reports.results.units import TEXT_COLUMNS, text_in_units, to_output_units
 from clearance.reports.results.vertical import vertical_words
 from clearance.reports.study.run import run_study
 from clearance.vehicles.errors import InputError
@@ -198,7 +198,10 @@ def test_the_feet_csv_has_no_metre_length_and_agrees_with_the_metres(feet_report
                 tol = 0.0005 + 0.0005 / FOOT_M + 1e-9
                 assert float(f[c[:-2] + "_ft"]) == pytest.approx(float(m[c]) / FOOT_M,
                                                                  abs=tol), c
-            elif not c.endswith("_m") and c not in ("reason", "suspect_elevation"):
+            elif c in TEXT_COLUMNS:
+                assert not METRE_LENGTH.search(f[c]), f[c]
+                assert_converted(m[c], f[c])
+            elif not c.endswith("_m"):
                 assert f[c] == m[c], c  # coordinates, angles, grades, names as they are
     assert converted > 2 * len(feet)  # 24 lengths in 8 reasons
 
