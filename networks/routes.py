@@ -26,7 +26,9 @@ connection (``No connection between edge 'a' and edge 'b' found.``), each a
 
 from __future__ import annotations
 
+import dataclasses
 import logging
+import math
 import os
 import subprocess
 import tempfile
@@ -44,14 +46,21 @@ from clearance.vehicles.errors import RouteError
 
 log = logging.getLogger(__name__)
 
-__all__ = ["DEFAULT_TYPES", "STOP_PLACES", "Route", "RouteSelection", "check_routes",
-           "read_routes", "route_trips", "select_routes"]
+__all__ = ["DEFAULT_TYPES", "STOP_PLACES", "VCLASS_SIZES", "Route", "RouteSelection",
+           "check_routes", "read_routes", "route_trips", "select_routes"]
 
 #: SUMO's built-in vehicle types and their classes (a vehicle without ``type`` drives the
 #: first).
 DEFAULT_TYPES = {"DEFAULT_VEHTYPE": "passenger", "DEFAULT_BIKETYPE": "bicycle",
                  "DEFAULT_TAXITYPE": "taxi", "DEFAULT_RAILTYPE": "rail",
                  "DEFAULT_CONTAINERTYPE": "ignoring", "DEFAULT_PEDTYPE": "pedestrian"}
+
+
+#: SUMO's default length and width of a vehicle type by class (m; SUMO's "Vehicle Type
+#: Parameter Defaults"); any other class: the passenger car's.
+VCLASS_SIZES = {"passenger": (5.0, 1.8), "taxi": (5.0, 1.8), "bus": (12.0, 2.5),
+                "coach": (14.0, 2.6), "truck": (7.1, 2.4), "trailer": (16.5, 2.55),
+                "delivery": (6.5, 2.16), "emergency": (6.5, 2.16)}
 
 
 @dataclass(frozen=True)
@@ -71,6 +80,9 @@ class Route:
     line: str
     file: str
     users: tuple[str, ...] = ()
+    #: The type's length and width (m): its ``length``/``width``, or SUMO's defaults for its
+    #: class (:data:`VCLASS_SIZES`); NaN for a route no vehicle uses.
+    size_m: tuple[float, float] = (math.nan, math.nan)
 
 
 @dataclass(frozen=True)
@@ -97,6 +109,7 @@ class _Files:
 
     def __init__(self) -> None:
         self.vtypes: dict[str, str] = dict(DEFAULT_TYPES)
+        self.sizes: dict[str, tuple[float, float]] = {}  # type id -> length, width (m)
         self.routes: dict[str, tuple[tuple[str, ...], str]] = {}  # id -> edges, file
         self.dists: dict[str, list[str]] = {}  # distribution id -> its route ids
         self.users: list[tuple[str, str, dict[str, str], tuple[str, ...] | None, str]] = []
@@ -129,6 +142,17 @@ def _edges(el: Any, path: Path, owner: str) -> tuple[str, ...]:
     return tuple(text.split())
 
 
+def _size(el: Any, path: Path) -> tuple[float, float]:
+    """A vType's length and width: its own, or its class's defaults."""
+    length, width = VCLASS_SIZES.get(el.get("vClass", "passenger"), VCLASS_SIZES["passenger"])
+    try:
+        return float(el.get("length", length)), float(el.get("width", width))
+    except ValueError:
+        where = f"vType {el.get('id')!r}"
+        raise RouteError(f"{where}: length or width is not a number", file=path,
+                         element=where) from None
+
+
 def _read_one(path: Path, files: _Files, routes_allowed: bool) -> None:
     root = _parse(path)
     for el in root.iter(etree.Element):
@@ -141,6 +165,7 @@ def _read_one(path: Path, files: _Files, routes_allowed: bool) -> None:
                     files.stops.setdefault(el.get(a), str(path))
         if tag == "vType" and el.get("id"):
             files.vtypes[el.get("id")] = el.get("vClass", "passenger")
+            files.sizes[el.get("id")] = _size(el, path)
         elif not routes_allowed:
             continue
         elif tag == "route" and el.get("id") and el.getparent() is root:
@@ -193,8 +218,9 @@ def read_routes(paths: Sequence[str | os.PathLike[str]],
             raise RouteError(f"{tag} {vid!r}: type {vtype!r} is not defined in any file given "
                              "(--routes, --additional)", file=file, element=f"{tag} {vid!r}")
         vclass, line = files.vtypes[vtype], attrib.get("line", "")
+        size = files.sizes.get(vtype) or VCLASS_SIZES.get(vclass, VCLASS_SIZES["passenger"])
         if own is not None:
-            _add(out, Route(vid, own, vtype, vclass, line, file, (vid,)))
+            _add(out, Route(vid, own, vtype, vclass, line, file, (vid,), size))
         elif attrib.get("route"):
             for rid in files.dists.get(attrib["route"], [attrib["route"]]):
                 if rid not in files.routes:
@@ -202,7 +228,7 @@ def read_routes(paths: Sequence[str | os.PathLike[str]],
                                      "file given", file=file, element=f"{tag} {vid!r}")
                 files.used.add(rid)
                 edges, rfile = files.routes[rid]
-                _add(out, Route(rid, edges, vtype, vclass, line, rfile, (vid,)))
+                _add(out, Route(rid, edges, vtype, vclass, line, rfile, (vid,), size))
         elif attrib.get("from") or attrib.get("fromJunction"):
             trips.append((vid, attrib, file))
         else:
@@ -217,7 +243,9 @@ def read_routes(paths: Sequence[str | os.PathLike[str]],
             raise RouteError(f"trips ({', '.join(v for v, _, _ in trips[:3])}) need the "
                              "network to be routed", file=trips[0][2])
         for route in route_trips(trips, files.vtypes, net_path):
-            _add(out, route)
+            _add(out, dataclasses.replace(route, size_m=files.sizes.get(route.vtype) or
+                                          VCLASS_SIZES.get(route.vclass,
+                                                           VCLASS_SIZES["passenger"])))
     return list(out.values())
 
 
@@ -229,7 +257,8 @@ def _add(out: dict[str, Route], route: Route) -> None:
     else:
         out[route.route_id] = Route(old.route_id, old.edges, old.vtype or route.vtype,
                                     old.vclass or route.vclass, old.line or route.line,
-                                    old.file, old.users + route.users)
+                                    old.file, old.users + route.users,
+                                    old.size_m if old.vtype else route.size_m)
 
 
 def route_trips(trips: Sequence[tuple[str, dict[str, str], str]], vtypes: dict[str, str],

@@ -50,6 +50,21 @@ def noted(rows: Sequence[PassageRow]) -> list[PassageRow]:
             or r.record is None]
 
 
+def rests_cell(row: PassageRow) -> str:
+    """What a passage's verdict rests on, as HTML: the network's data or netconvert's
+    defaults, and in italics the evidence of the network's own traffic driving it.
+
+    >>> from types import SimpleNamespace as S
+    >>> rests_cell(S(record=S(geometry="lane width default 3.2 m"), own_traffic="own buses"))
+    'lane width default 3.2 m<br><i>own buses</i>'
+    """
+    rec = row.record
+    text = html.escape(rec.geometry if rec is not None else "")
+    if row.own_traffic:
+        text += f"<br><i>{html.escape(row.own_traffic)}</i>"
+    return text
+
+
 def route_headline(routes: RouteStudy, route_id: str, vehicle: str) -> str:
     """One sentence per route and vehicle, e.g. ``A-BUS on bus_162: 0 of 16 passages worse
     than CITY-BUS; 2 where both are not clear``."""
@@ -167,7 +182,8 @@ def routes_html(routes: RouteStudy, maps: dict[tuple[str, str], Path],
             out.append("<table><tr><th>#</th><th>junction</th><th>from → to</th>"
                        "<th>verdict</th><th>margin [m]</th>"
                        + ("<th>baseline</th><th>vs baseline</th><th>more room [m]</th>"
-                          if routes.baseline else "") + "</tr>")
+                          if routes.baseline else "")
+                       + "<th>worst conflict</th><th>rests on</th></tr>")
             for r in rows:
                 verdict = r.record.verdict if r.record is not None else NOT_PERMITTED
                 link = curve_link.get(r.record.curve_id, "") if r.record is not None else ""
@@ -179,6 +195,9 @@ def routes_html(routes: RouteStudy, maps: dict[tuple[str, str], Path],
                     "</td>"
                     + (f"<td>{e(r.baseline.verdict if r.baseline else '')}</td>"
                        f"<td>{e(r.vs_baseline)}</td><td>{_m(r.more_room_m)}</td>"
-                       if routes.baseline else "") + "</tr>")
+                       if routes.baseline else "")
+                    + f'<td style="text-align:left">'
+                      f'{e(r.record.conflict_at if r.record else "")}</td>'
+                    + f'<td style="text-align:left">{rests_cell(r)}</td></tr>')
             out.append("</table>")
     return out

@@ -23,7 +23,8 @@ from clearance.networks.passages import Passage
 from clearance.networks.routes import Route
 from clearance.reports.results.records import VERDICT_ORDER, RunRecord
 
-__all__ = ["DEFAULT_TOLERANCE_M", "NOT_PERMITTED", "ROUTE_COLUMNS", "PassageRow", "best_record",
+__all__ = ["CONTRADICTED", "DEFAULT_TOLERANCE_M", "NOT_PERMITTED", "ROUTE_COLUMNS", "PassageRow",
+           "own_traffic_words", "best_record",
            "compare_runs", "route_rows", "route_summary", "routes_csv"]
 
 #: Room a vehicle may lack against the baseline before it counts as worse (m).
@@ -35,7 +36,16 @@ NOT_PERMITTED = "not permitted"
 ROUTE_COLUMNS = ["route_id", "line", "order", "junction", "kind", "from_edge", "to_edge",
                  "curve_id", "vehicle", "verdict", "margin_m", "paved_margin_m",
                  "baseline", "baseline_verdict", "baseline_margin_m", "vs_baseline",
-                 "more_room_m"]
+                 "more_room_m", "geometry", "conflict_at", "own_traffic"]
+
+#: The verdicts the network's own traffic is held against: it drives where the study's vehicle
+#: of its class cannot.
+CONTRADICTED = ("fails", "cannot-turn")
+
+_PLURAL = {"bus": "buses", "coach": "coaches", "truck": "trucks", "trailer": "trailers",
+           "delivery": "delivery vehicles", "passenger": "cars", "taxi": "taxis"}
+_PASSAGE_WORD = {"turn": "turn", "uturn": "U-turn", "roundabout": "roundabout passage",
+                 "ramp": "ramp", "bend": "bend"}
 
 
 @dataclass(frozen=True)
@@ -50,6 +60,9 @@ class PassageRow:
     baseline: RunRecord | None
     vs_baseline: str
     more_room_m: float
+    #: The network's own traffic that drives this passage while the vehicle fails there, in
+    #: words (:func:`own_traffic_words`); ``""`` otherwise.
+    own_traffic: str = ""
 
     def row(self) -> dict[str, object]:
         r, b = self.record, self.baseline
@@ -64,7 +77,9 @@ class PassageRow:
                 "baseline": b.vehicle if b else "",
                 "baseline_verdict": b.verdict if b else "",
                 "baseline_margin_m": _m(b.margin_m if b else math.nan),
-                "vs_baseline": self.vs_baseline, "more_room_m": _m(self.more_room_m)}
+                "vs_baseline": self.vs_baseline, "more_room_m": _m(self.more_room_m),
+                "geometry": r.geometry if r else "", "conflict_at": r.conflict_at if r else "",
+                "own_traffic": self.own_traffic}
 
 
 def _m(value: float) -> str:
@@ -121,12 +136,44 @@ def compare_runs(run: RunRecord | None, baseline: RunRecord | None, tolerance_m:
     return ("better" if less < -tolerance_m and more <= 0 else "same"), more
 
 
+def own_traffic_words(passage: Passage, vclass: str, drivers: Sequence[Route]) -> str:
+    """The evidence of the network's own traffic on a passage where a vehicle of class
+    ``vclass`` fails: the routes of that class that drive it and their types' sizes.
+
+    >>> from clearance.networks.routes import Route
+    >>> p = Passage(("a", "b"), "J", "turn", ("c",))
+    >>> r = Route("bus_1", ("a", "b"), "Bus", "bus", "1", "f", ("v",), (12.0, 2.5))
+    >>> print(own_traffic_words(p, "bus", [r, r]))  # doctest: +NORMALIZE_WHITESPACE
+    this network's own buses take this turn (route bus_1; type Bus 12.0 × 2.5 m): the failure
+    likely rests on the drawing
+    >>> own_traffic_words(p, "truck", [r])
+    ''
+    """
+    same = [r for r in drivers if r.vclass == vclass]
+    if not same:
+        return ""
+    ids = list(dict.fromkeys(r.route_id for r in same))
+    shown = ", ".join(ids[:5]) + (f" and {len(ids) - 5} more" if len(ids) > 5 else "")
+    types = ", ".join(f"{t} {size[0]:.1f} × {size[1]:.1f} m" for t, size in
+                      dict.fromkeys((r.vtype, r.size_m) for r in same))
+    return (f"this network's own {_PLURAL.get(vclass, vclass + ' vehicles')} take this "
+            f"{_PASSAGE_WORD.get(passage.kind, passage.kind)} "
+            f"(route{'s' if len(ids) > 1 else ''} {shown}; type{'s' if ',' in types else ''} "
+            f"{types}): the failure likely rests on the drawing")
+
+
 def route_rows(routes: Sequence[Route], passages: Mapping[str, list[tuple[int, Passage]]],
                records: Sequence[RunRecord], vehicles: Sequence[str],
-               baseline: str | None = None, tolerance_m: float = DEFAULT_TOLERANCE_M
-               ) -> list[PassageRow]:
-    """Every route x passage x vehicle, in route order then the vehicles' order."""
+               baseline: str | None = None, tolerance_m: float = DEFAULT_TOLERANCE_M,
+               vclasses: Mapping[str, str] | None = None) -> list[PassageRow]:
+    """Every route x passage x vehicle, in route order then the vehicles' order; with the
+    vehicles' SUMO classes (``vclasses``), a run that fails or cannot turn where the routes'
+    own vehicles of its class drive carries that evidence (:func:`own_traffic_words`)."""
     by_run = {(r.vehicle, r.curve_id): r for r in records}
+    drivers: dict[Passage, list[Route]] = {}
+    for route in routes:
+        for _, passage in passages[route.route_id]:
+            drivers.setdefault(passage, []).append(route)
     out = []
     for route in routes:
         for order, passage in passages[route.route_id]:
@@ -140,7 +187,11 @@ def route_rows(routes: Sequence[Route], passages: Mapping[str, list[tuple[int, P
                     vs, more = "baseline", math.nan
                 else:
                     vs, more = compare_runs(best[v], base, tolerance_m)
-                out.append(PassageRow(route, order, passage, v, best[v], base, vs, more))
+                rec = best[v]
+                own = (own_traffic_words(passage, vclasses[v], drivers[passage])
+                       if vclasses and v in vclasses and rec and rec.verdict in CONTRADICTED
+                       else "")
+                out.append(PassageRow(route, order, passage, v, rec, base, vs, more, own))
     return out
 
 
@@ -160,6 +211,8 @@ def route_summary(rows: Sequence[PassageRow]) -> dict[str, dict[str, dict[str, i
         counts = out.setdefault(r.route.route_id, {}).setdefault(r.vehicle, {})
         verdict = r.record.verdict if r.record else NOT_PERMITTED
         counts[verdict] = counts.get(verdict, 0) + 1
+        if r.own_traffic:
+            counts["driven_by_own_traffic"] = counts.get("driven_by_own_traffic", 0) + 1
         if r.vs_baseline and r.vs_baseline != "baseline":
             key = f"vs_baseline_{r.vs_baseline}"
             counts[key] = counts.get(key, 0) + 1

@@ -115,5 +115,6 @@ def run_route_study(net_path: str | os.PathLike[str], route_files: Sequence[str 
     base = study_options.pop("selection", None) or Selection()
     result = study([net_path], table, selection=replace(base, kinds=KINDS, curve_ids=ids),
                    **study_options)
-    rows = route_rows(routes, passages, result.records, table.names, baseline, tolerance_m)
+    rows = route_rows(routes, passages, result.records, table.names, baseline, tolerance_m,
+                      {n: table.vehicle(n).vclass for n in table.names})
     return RouteStudy(routes, passages, result, rows, baseline, tolerance_m, uncovered)

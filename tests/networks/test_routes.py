@@ -121,3 +121,24 @@ def test_a_selection_that_matches_nothing_is_refused(tmp_path):
     f = _write(tmp_path / "r.rou.xml", '<route id="r" edges="XS_in XN_out"/>')
     with pytest.raises(RouteError, match="no route matches the selection.*--line 14"):
         select_routes(read_routes([f]), RouteSelection(lines=("14",)))
+
+
+@needs_real
+def test_route_types_carry_their_size_or_sumo_defaults():
+    """Doerpfeldstr's pt_bus gives no size: SUMO's bus default (12 x 2.5 m); Hamburg's
+    types give their own, as the file says."""
+    routes = read_routes([REAL / "doerpfeldstr.pt_lines.rou.xml"],
+                         [REAL / "doerpfeldstr.vtypes.xml"])
+    assert {r.size_m for r in routes if r.vclass == "bus"} == {(12.0, 2.5)}
+    from lxml import etree
+
+    files = [REAL / "tavf_hamburg.bus.rou.xml", REAL / "tavf_hamburg.vtypes.xml"]
+    types = {t.get("id"): t for f in files for t in etree.parse(str(f)).iter("vType")}
+    hamburg = read_routes(files[:1], files[1:])
+    assert hamburg
+    for r in hamburg:
+        if r.vtype:
+            t = types[r.vtype]
+            default = {"bus": (12.0, 2.5), "passenger": (5.0, 1.8), "truck": (7.1, 2.4)}[r.vclass]
+            assert r.size_m == (float(t.get("length", default[0])),
+                                float(t.get("width", default[1]))), r.vtype

@@ -172,3 +172,30 @@ def test_every_bus_line_of_the_shared_networks(name, buses):
         for a, b in zip(route.edges, route.edges[1:], strict=False):
             assert network.edges[a].to_junction == network.edges[b].from_junction
             assert (a, b) in covered, (route.route_id, a, b)
+
+
+@needs_real
+def test_the_networks_own_buses_are_evidence_where_the_bus_fails(doerpfeld):
+    """Every failing bus passage of a bus line is driven by that line's own buses: each one
+    says so, naming the line and SUMO's bus size; no clear passage does."""
+    rows = doerpfeld.rows
+    for r in rows:
+        failing = r.record is not None and r.record.verdict in ("fails", "cannot-turn")
+        assert bool(r.own_traffic) == failing, (r.route.route_id, r.passage.junction)
+        if failing:
+            assert r.route.route_id in r.own_traffic and "12.0 × 2.5 m" in r.own_traffic
+        if r.record is not None:
+            assert r.record.geometry  # data, or the defaults it rests on
+
+
+def test_own_traffic_needs_the_same_class():
+    from clearance.networks.passages import Passage
+    from clearance.networks.routes import Route
+    from clearance.reports.results.routes import own_traffic_words
+
+    p = Passage(("a", "b"), "J", "roundabout", ("c",))
+    trucks = [Route(f"t{i}", ("a", "b"), "HGV", "truck", "", "f", (), (16.5, 2.55))
+              for i in range(7)]
+    words = own_traffic_words(p, "truck", trucks)
+    assert "own trucks take this roundabout passage" in words and "and 2 more" in words
+    assert own_traffic_words(p, "bus", trucks) == ""
