@@ -17,6 +17,7 @@ from clearance.reports.documents.drawings import Drawings, network_tasks
 from clearance.reports.documents.markdown import markdown
 from clearance.reports.documents.report import Section, anchor, build_sections, html_document
 from clearance.reports.documents.route_maps import route_maps, routes_html
+from clearance.reports.exports.patches import write_patches
 from clearance.reports.exports.study import export_names, georeferenced, write_exports
 from clearance.reports.output.atomic import write_text_atomic
 from clearance.reports.output.output_dir import Layout
@@ -42,7 +43,8 @@ LAYOUT = Layout(
     files=frozenset({"clearance.csv", "summary.json", "routes.csv", "report.md", "report.html",
                      "swept.geojson", "swept.add.xml", "swept.dxf"}),
     folders={"figures": (".png", ".svg", ".jpg"), "fcd": (".xml",),
-             "exports": (".add.xml", ".dxf", ".geojson"), "sheets": (".pdf",)},
+             "exports": (".add.xml", ".dxf", ".geojson"), "sheets": (".pdf",),
+             "patches": (".xml",)},
     signature=("clearance.csv", ",".join(COLUMNS[:4])),
 )
 
@@ -62,6 +64,9 @@ def write_report(study: Study, folder: Path, tables: list[Path], units: str = "m
         study, tables, waived, route_summary(routes.rows) if routes is not None else None))
     if routes is not None:
         write_text_atomic(folder / "routes.csv", routes_csv(routes.rows))
+    for nc in study.networks:
+        write_patches(folder / "patches", nc.name, nc.network, nc.curves,
+                      [r for r in study.records if r.network == nc.name], study.table)
     if executor is None:
         exports = write_exports(study, folder, origin)
         sections = build_sections(study, folder, units, waived)

@@ -78,6 +78,29 @@ def test_summary_json_counts_inputs_and_versions(report, rows):
     assert s["versions"]["sumo"][0].isdigit()
 
 
+def test_a_hand_drawn_network_rests_on_data_and_its_patches_touch_nothing(report, rows):
+    """The intersection sample gives every width and draws its junctions: every verdict rests
+    on data, the summary says so, and the fit patches propose nothing (no default to fit);
+    the vTypes are still written, one per vehicle."""
+    from lxml import etree
+
+    assert {r["geometry"] for r in rows} == {"data"}
+    bad = [r for r in rows if r["verdict"] in ("encroaches", "fails", "cannot-turn")]
+    assert bad and all(r["conflict_at"] for r in bad)
+    assert all(not r["conflict_at"] for r in rows if r["verdict"] == "clear")
+    s = json.loads((report / "summary.json").read_text())
+    assert s["geometry"]["intersection"]["not_clear"] == {
+        "runs": len(bad), "on_data": len(bad), "on_defaults": 0}
+    patches = report / "patches"
+    assert sorted(p.name for p in patches.iterdir()) == [
+        "intersection.fit.edg.xml", "intersection.fit.nod.xml",
+        "intersection.restrict.con.xml", "intersection.vtypes.xml"]
+    assert not etree.parse(str(patches / "intersection.fit.edg.xml")).getroot().findall("edge")
+    assert not etree.parse(str(patches / "intersection.fit.nod.xml")).getroot().findall("node")
+    types = etree.parse(str(patches / "intersection.vtypes.xml")).getroot().findall("vType")
+    assert [t.get("id") for t in types] == list(VEHICLES)
+
+
 def test_html_is_self_contained(report):
     html = (report / "report.html").read_text()
     refs = re.findall(r'(?:src|href)\s*=\s*"([^"]*)"', html)
