@@ -250,10 +250,10 @@ def write_dxf(path: str | os.PathLike[str], records: Iterable[EnvelopeRecord],
     of its name (a suffix ``~2``, ``~3``... when two names clash, DXF layer names being
     case-insensitive), the layer's description holding the vehicle's own name. A run whose
     envelope is grown by a clearance offset has it on ``-CLEARANCE-ENVELOPE`` and its body
-    envelope (when known) on ``-ENVELOPE``. ``$INSUNITS`` is 6 (metres) and
-    ``$MEASUREMENT`` 1 (metric). Envelope polylines carry the verdict's colour
-    (:data:`VERDICT_ACI`) and XDATA ``network=``, ``vehicle=``, ``curve_id=``, ``kind=``,
-    ``verdict=``, ``margin_m=``, ``ring=exterior|hole``.
+    envelope (when known) on ``-ENVELOPE``. ``$INSUNITS`` is 6 (metres), ``$MEASUREMENT``
+    1 (metric), and ``$EXTMIN``/``$EXTMAX`` the drawing's extents. Envelope polylines carry
+    the verdict's colour (:data:`VERDICT_ACI`) and XDATA ``network=``, ``vehicle=``,
+    ``curve_id=``, ``kind=``, ``verdict=``, ``margin_m=``, ``ring=exterior|hole``.
 
     Raises
     ------
@@ -264,12 +264,30 @@ def write_dxf(path: str | os.PathLike[str], records: Iterable[EnvelopeRecord],
     recs = checked_records(records)
     doc = _new_drawing()
     msp = doc.modelspace()
+    bounds = []
     if network is not None:
-        _draw_base_plan(doc, msp, network, recs)
+        bounds.append(_draw_base_plan(doc, msp, network, recs))
     layers = _add_vehicle_layers(doc, recs)
     for r in recs:
         _draw_record(msp, r, layers[r.vehicle])
+    if recs:
+        bounds.append(shapely.total_bounds([r.envelope for r in recs]))
+    _set_extents(doc, bounds)
     return write_text_atomic(path, _reproducible_text(doc))
+
+
+def _set_extents(doc: Drawing, bounds: list[np.ndarray]) -> None:
+    """``$EXTMIN``/``$EXTMAX`` from the drawing's parts' bounds (x0, y0, x1, y1), so that a CAD
+    program's "zoom extents" and an insertion into a base map find the drawing at once."""
+    known = [b for b in bounds if len(b) == 4 and np.isfinite(b).all()]
+    if not known:
+        return
+    box = np.array(known)
+    lo = (float(box[:, 0].min()), float(box[:, 1].min()), 0.0)
+    hi = (float(box[:, 2].max()), float(box[:, 3].max()), 0.0)
+    msp = doc.modelspace()  # ezdxf writes the header's extents from the layout's
+    msp.dxf.extmin, msp.dxf.extmax = lo, hi
+    doc.header["$EXTMIN"], doc.header["$EXTMAX"] = lo, hi
 
 
 def _new_drawing() -> Drawing:
@@ -285,15 +303,21 @@ def _new_drawing() -> Drawing:
 
 
 def _draw_base_plan(doc: Drawing, msp: Modelspace, network: Network,
-                    recs: list[EnvelopeRecord]) -> None:
+                    recs: list[EnvelopeRecord]) -> np.ndarray:
     """The base layers and the base plan of ``network`` within :data:`BASE_MARGIN_M` of
-    the envelopes (all of it without records)."""
+    the envelopes (all of it without records); returns the plan's bounds (x0, y0, x1, y1;
+    NaN when it is empty)."""
     box = None
     if recs:
         x0, y0, x1, y1 = shapely.total_bounds([r.envelope for r in recs])
         box = (x0 - BASE_MARGIN_M, y0 - BASE_MARGIN_M, x1 + BASE_MARGIN_M,
                y1 + BASE_MARGIN_M)
     plan = base_plan(network, box)
+    drawn = [np.asarray(xy, dtype=float)[:, :2] for lines in plan.values() for xy in lines
+             if len(xy)]
+    every = np.vstack(drawn) if drawn else np.empty((0, 2))
+    bounds = (np.array([*every.min(axis=0), *every.max(axis=0)]) if len(every)
+              else np.full(4, np.nan))
     for name, (colour, ltype, description) in BASE_LAYERS.items():
         layer = doc.layers.add(name, color=colour, linetype=ltype)
         layer.description = description
@@ -301,6 +325,7 @@ def _draw_base_plan(doc: Drawing, msp: Modelspace, network: Network,
             closed = len(xy) > 3 and bool((xy[0] == xy[-1]).all())
             pts = [(float(x), float(y)) for x, y in (xy[:-1] if closed else xy)]
             msp.add_lwpolyline(pts, format="xy", close=closed, dxfattribs={"layer": name})
+    return bounds
 
 
 def _add_vehicle_layers(doc: Drawing, recs: list[EnvelopeRecord]) -> dict[str, str]:

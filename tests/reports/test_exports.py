@@ -340,6 +340,17 @@ def test_dxf_base_plan_and_conflict_layers(tmp_path: Path):
     lines = msp.query('LWPOLYLINE[layer=="BASE-LANE-LINE"]')
     assert len(lines) > 0 and all(not e.closed for e in lines)
     assert len(msp.query('LWPOLYLINE[layer=="BASE-JUNCTION"]')) >= 1
+    # the header's extents hold every vertex drawn (ezdxf's own bounding box of the
+    # polylines' points, not our arithmetic), within a label's height
+    from ezdxf import bbox
+
+    ext = bbox.extents(msp.query("LWPOLYLINE"))
+    lo, hi = doc.header["$EXTMIN"], doc.header["$EXTMAX"]
+    assert lo[0] == pytest.approx(ext.extmin.x, abs=1e-6)
+    assert lo[1] == pytest.approx(ext.extmin.y, abs=1e-6)
+    assert hi[0] == pytest.approx(ext.extmax.x, abs=1e-6)
+    assert hi[1] == pytest.approx(ext.extmax.y, abs=1e-6)
+    assert doc.header["$INSUNITS"] == 6
 
 
 def test_conflict_parts_doctest_and_plan():
