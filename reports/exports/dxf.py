@@ -251,9 +251,12 @@ def write_dxf(path: str | os.PathLike[str], records: Iterable[EnvelopeRecord],
     case-insensitive), the layer's description holding the vehicle's own name. A run whose
     envelope is grown by a clearance offset has it on ``-CLEARANCE-ENVELOPE`` and its body
     envelope (when known) on ``-ENVELOPE``. ``$INSUNITS`` is 6 (metres), ``$MEASUREMENT``
-    1 (metric), and ``$EXTMIN``/``$EXTMAX`` the drawing's extents. Envelope polylines carry
-    the verdict's colour (:data:`VERDICT_ACI`) and XDATA ``network=``, ``vehicle=``,
-    ``curve_id=``, ``kind=``, ``verdict=``, ``margin_m=``, ``ring=exterior|hole``.
+    1 (metric), and ``$EXTMIN``/``$EXTMAX`` the drawing's extents. A network with a
+    projection is drawn in its projected CRS (SUMO's coordinates less ``netOffset``; the
+    header's custom properties ``CRS`` and ``SUMO_NET_OFFSET`` say which); one without, in
+    SUMO's plane metres. Envelope polylines carry the verdict's colour
+    (:data:`VERDICT_ACI`) and XDATA ``network=``, ``vehicle=``, ``curve_id=``, ``kind=``,
+    ``verdict=``, ``margin_m=``, ``ring=exterior|hole``.
 
     Raises
     ------
@@ -272,8 +275,28 @@ def write_dxf(path: str | os.PathLike[str], records: Iterable[EnvelopeRecord],
         _draw_record(msp, r, layers[r.vehicle])
     if recs:
         bounds.append(shapely.total_bounds([r.envelope for r in recs]))
-    _set_extents(doc, bounds)
+    shift = _place_in_projection(doc, network)
+    _set_extents(doc, [b + np.array([*shift, *shift]) for b in bounds])
     return write_text_atomic(path, _reproducible_text(doc))
+
+
+def _place_in_projection(doc: Drawing, network: Network | None) -> tuple[float, float]:
+    """A network with a projection has its drawing moved into the projected CRS (SUMO's plane
+    is that CRS less ``netOffset``), the CRS named in the header (custom property ``CRS``, a
+    PROJ string) so that a CAD user's base map in that CRS and this drawing overlay; returns
+    the shift applied (0, 0 without a projection: SUMO's plane metres, as before)."""
+    if network is None:
+        return 0.0, 0.0
+    proj = (network.location.proj_parameter or "").strip()
+    if proj in ("", "!"):
+        return 0.0, 0.0
+    dx, dy = (-float(v) for v in network.location.net_offset)
+    for entity in doc.modelspace():
+        entity.translate(dx, dy, 0.0)
+    doc.header.custom_vars.append("CRS", proj)
+    doc.header.custom_vars.append("SUMO_NET_OFFSET", " ".join(
+        f"{float(v):.2f}" for v in network.location.net_offset))
+    return dx, dy
 
 
 def _set_extents(doc: Drawing, bounds: list[np.ndarray]) -> None:

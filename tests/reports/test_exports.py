@@ -145,6 +145,31 @@ def test_geojson_lonlat_for_a_projected_network(tmp_path: Path, projected_net: P
     assert math.hypot(xy[:, 0].mean() - cx, xy[:, 1].mean() - cy) < 0.5
 
 
+def test_dxf_of_a_projected_network_lies_in_its_crs(tmp_path: Path, projected_net: Path):
+    """Drawn in the projected CRS: each vertex is SUMO's less netOffset, which PROJ takes back to
+    the network's own lon/lat box; the header names the CRS and the extents follow."""
+    net = read_network(projected_net)
+    loc = net.location
+    x0, y0, x1, y1 = loc.conv_boundary
+    cx, cy = (x0 + x1) / 2, (y0 + y1) / 2
+    env = Point(cx, cy).buffer(10.0)
+    rec = EnvelopeRecord(projected_net.stem, "Bus", "c1", "bend", "fails", -1.5, env)
+    doc = ezdxf.readfile(write_dxf(tmp_path / "p.dxf", [rec], net))
+    assert doc.header.custom_vars.get("CRS") == loc.proj_parameter
+    msp = doc.modelspace()
+    [outline] = [e for e in msp.query("LWPOLYLINE") if e.dxf.layer.endswith("-ENVELOPE")]
+    pts = np.asarray(outline.get_points("xy"))
+    sumo = np.asarray(orient_ccw(env.exterior.coords))[:-1]
+    shifted = sumo - np.asarray(loc.net_offset)
+    assert min(np.hypot(*(pts - p).T).min() for p in shifted) < 1e-6
+    lon, lat = pyproj.Proj(loc.proj_parameter)(*pts.T, inverse=True)
+    lon0, lat0, lon1, lat1 = loc.orig_boundary
+    assert ((lon0 < lon) & (lon < lon1) & (lat0 < lat) & (lat < lat1)).all()
+    lo, hi = doc.header["$EXTMIN"], doc.header["$EXTMAX"]
+    assert lo[0] <= pts[:, 0].min() and hi[1] >= pts[:, 1].max()
+    assert hi[0] - lo[0] < 1e4  # the base plan near the envelope, not the globe
+
+
 def orient_ccw(coords) -> list[tuple[float, float]]:
     pts = list(coords)
     x, y = np.asarray(pts).T
