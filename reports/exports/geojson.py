@@ -7,9 +7,11 @@ network without a projection is placed on the globe by an ``origin`` (latitude, 
 its input coordinates' 0,0, i.e. SUMO x, y minus the ``netOffset``): a transverse Mercator
 projection centred there (scale 1, so metres stay metres near the site). Otherwise they
 are the SUMO plane metres of each network: not RFC 7946 coordinates, which the file says
-in its top-level ``coordinate_system`` member (a foreign member, RFC 7946 section 6.1; no
-``crs`` member, which RFC 7946 removed) and the report in its file name
-(``*.local-metres.geojson``).
+in its top-level ``coordinate_system`` member (a foreign member, RFC 7946 section 6.1), the
+report in its file name (``*.local-metres.geojson``), and GIS software in the file's ``crs``
+member (GeoJSON 2008's, which RFC 7946 removed and GDAL still reads): a local engineering
+CRS (:data:`LOCAL_CRS_WKT`), so that QGIS keeps the layer off the globe instead of reading
+metres as WGS84 degrees (it put a town in the South Atlantic).
 """
 
 from __future__ import annotations
@@ -31,11 +33,19 @@ from clearance.reports.exports.envelopes import EnvelopeRecord, checked_records,
 from clearance.reports.output.atomic import write_text_atomic
 from clearance.vehicles.errors import GeometryError, NetworkError, OptionError
 
-__all__ = ["COORDS_LOCAL", "COORDS_LONLAT", "COORDS_MIXED", "lonlat_transformer",
-           "origin_transformer", "parse_origin", "write_geojson"]
+__all__ = ["COORDS_LOCAL", "COORDS_LONLAT", "COORDS_MIXED", "LOCAL_CRS_WKT",
+           "lonlat_transformer", "origin_transformer", "parse_origin", "write_geojson"]
 
 COORDS_LONLAT = "WGS84 longitude/latitude (degrees, RFC 7946)"
 COORDS_LOCAL = "local metres (SUMO network coordinates, no projection)"
+
+#: The CRS of a local-metres file: SUMO's plane, an engineering CRS (WKT2) GDAL reads from
+#: a ``crs`` member of type ``name``.
+LOCAL_CRS_WKT = (
+    'ENGCRS["SUMO network plane (local metres, no projection)",'
+    'EDATUM["SUMO network origin"],CS[Cartesian,2],'
+    'AXIS["easting (x)",east,ORDER[1],LENGTHUNIT["metre",1]],'
+    'AXIS["northing (y)",north,ORDER[2],LENGTHUNIT["metre",1]]]')
 COORDS_MIXED = (
     "local metres (SUMO network coordinates of each network: not every network has a projection)"
 )
@@ -295,8 +305,12 @@ def write_geojson(
 
     # Keys in sorted order, one feature per line (readable diffs of committed examples).
     body = ",\n".join(dump(f) for f in features)
+    crs = ""
+    if system == COORDS_LOCAL:
+        crs = dump({"properties": {"name": LOCAL_CRS_WKT}, "type": "name"})
+        crs = f'"crs":{crs},\n'
     text = (
-        f'{{"coordinate_system":{dump(system)},\n"features":[\n{body}\n],\n'
+        f'{{"coordinate_system":{dump(system)},\n{crs}"features":[\n{body}\n],\n'
         f'"networks":{dump(networks)},\n"type":"FeatureCollection"}}\n'
     )
     return write_text_atomic(path, text)

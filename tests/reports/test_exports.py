@@ -101,6 +101,32 @@ def test_geojson_local_metres(tmp_path: Path):
         # 1 mm rounding: the areas agree to well under a square centimetre per metre
         assert back.symmetric_difference(rec.envelope).area < 1e-3 * rec.envelope.length
     assert len(feats[0]["geometry"]["coordinates"]) == 2  # the ring keeps its hole
+    assert pyproj.CRS(doc["crs"]["properties"]["name"]).is_engineering
+
+
+OGRINFO = "/usr/bin/ogrinfo"
+
+
+@pytest.mark.skipif(not os.path.exists(OGRINFO), reason="GDAL's ogrinfo (Debian gdal-bin) "
+                    "is not installed; .ci/run installs it")
+def test_gdal_reads_local_metres_as_a_local_crs_and_lonlat_as_wgs84(tmp_path: Path,
+                                                                      projected_net: Path):
+    """As QGIS would: GDAL reads the local-metres file in a local engineering CRS (never on
+    the globe, where metres read as degrees put a town in the South Atlantic), and a
+    projected network's file in WGS 84."""
+    local = write_geojson(tmp_path / "n.local-metres.geojson", records(),
+                          {"intersection": LOCAL})
+    said = subprocess.run([OGRINFO, "-so", "-al", str(local)], capture_output=True, text=True,
+                          check=True).stdout
+    assert "ENGCRS" in said and "SUMO network plane" in said and "WGS 84" not in said
+    loc = read_network(projected_net).location
+    x0, y0, x1, y1 = loc.conv_boundary
+    rec = EnvelopeRecord(projected_net.stem, "Bus", "c1", "bend", "fails", -1.5,
+                         Point((x0 + x1) / 2, (y0 + y1) / 2).buffer(5.0))
+    lonlat = write_geojson(tmp_path / "p.geojson", [rec], {rec.network: loc})
+    said = subprocess.run([OGRINFO, "-so", "-al", str(lonlat)], capture_output=True,
+                          text=True, check=True).stdout
+    assert "WGS 84" in said and "ENGCRS" not in said
 
 
 def test_geojson_is_byte_identical_and_order_independent(tmp_path: Path):
