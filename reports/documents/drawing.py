@@ -43,7 +43,7 @@ from shapely.geometry.base import BaseGeometry
 
 from clearance.analysis.envelope import body_corners
 from clearance.analysis.overreach import worst_overreach
-from clearance.analysis.tracking import TrackingRun
+from clearance.analysis.tracking import TrackingRun, Trajectory
 from clearance.analysis.trailer import hitch_point
 from clearance.networks.curves import Curve
 from clearance.networks.driving.drive import DrivenRun, DriveOptions, drive
@@ -442,13 +442,27 @@ def _dimensions(ax: Axes, curve: Curve, s: Shown, units: str) -> None:
         dimension(ax, a, b, f"{s.record.vehicle}: {length_text(d, units)} {words}", colour)
     tr = run.trajectory
     if len(tr) > 1 and swept.max_offtracking_m > 0.05:
-        i = int(np.argmax(swept.offtracking_m))
-        q = shapely.Point(float(tr.x_m[i]), float(tr.y_m[i]))
-        line = shapely.shortest_line(q, shapely.LineString(np.column_stack([tr.xf_m,
-                                                                             tr.yf_m])))
-        a, b = np.asarray(line.coords)
-        dimension(ax, a, b, f"offtracking {length_text(swept.max_offtracking_m, units)}",
-                   s.colour, offset=(-14, -18))
+        _offtracking_dimension(ax, tr, swept.offtracking_m, (tr.x_m, tr.y_m),
+                               f"offtracking {length_text(swept.max_offtracking_m, units)}",
+                               s.colour, (-14, -18))
+    off_t, xt, yt = swept.trailer_offtracking_m, tr.xt_m, tr.yt_m
+    if len(tr) > 1 and off_t is not None and xt is not None and yt is not None \
+            and float(off_t.max()) > 0.05:
+        _offtracking_dimension(ax, tr, off_t, (xt, yt),
+                               f"trailer offtracking {length_text(float(off_t.max()), units)}",
+                               s.colour, (-14, -30))
+
+
+def _offtracking_dimension(ax: Axes, tr: Trajectory, off: np.ndarray,
+                           axle: tuple[np.ndarray, np.ndarray], label: str, colour: str,
+                           offset: tuple[float, float]) -> None:
+    """Dimension the largest offtracking: from the axle (the tractor's rear axle or the
+    trailer's) at its worst sample to the steered axle's path."""
+    i = int(np.argmax(off))
+    q = shapely.Point(float(axle[0][i]), float(axle[1][i]))
+    line = shapely.shortest_line(q, shapely.LineString(np.column_stack([tr.xf_m, tr.yf_m])))
+    a, b = np.asarray(line.coords)
+    dimension(ax, a, b, label, colour, offset=offset)
 
 
 def badge_text(rec: RunRecord, units: str) -> str:

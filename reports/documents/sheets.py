@@ -150,6 +150,8 @@ def verdict_rows(s: Shown, units: str) -> list[tuple[str, str]]:
             ("largest swept width", L(r.swept_width_m)),
             ("lane width (narrowest)", L(r.available_width_m)),
             ("largest offtracking", L(r.max_offtracking_m)),
+            *([("largest trailer offtracking", L(r.trailer_offtracking_m))]
+              if math.isfinite(getattr(r, "trailer_offtracking_m", math.nan)) else []),
             ("largest tracking error", L(r.max_tracking_error_m)),
             ("clearance offset", L(r.clearance_m)), ("method", r.method)]
     rows.append(("path", path_words(s, units).split(": ", 1)[1]))

@@ -20,7 +20,8 @@ __all__ = ["COLUMNS", "VERDICT_ORDER", "RunRecord"]
 #: Columns of ``clearance.csv`` in order.
 COLUMNS = ["network", "vehicle", "curve_id", "kind", "junction", "verdict", "margin_m",
            "paved_margin_m", "curve_radius_m", "vehicle_min_radius_m", "swept_width_m",
-           "available_width_m", "max_offtracking_m", "max_tracking_error_m", "turn_angle_deg",
+           "available_width_m", "max_offtracking_m", "trailer_offtracking_m",
+           "max_tracking_error_m", "turn_angle_deg",
            "max_grade_pct", "method", "clearance_m", "lane_verdict", "lane_margin_m", "path",
            "encroaches_on", "reason", "geometry", "conflict_at",
            "vertical", "vertical_margin_m", "vertical_station_m", "vertical_part", "grade_limit_pct", "suspect_elevation",  # noqa: E501 - vertical checks
@@ -95,6 +96,10 @@ class RunRecord:
     overreach_x: float = math.nan
     overreach_y: float = math.nan
     extra_width_m: float = math.nan
+    #: An articulated vehicle's largest trailer offtracking (m): how far inside the steered
+    #: axle's path the trailer axle runs (:attr:`clearance.analysis.envelope.SweptPath.
+    #: max_trailer_offtracking_m`); NaN without a trailer or for the analytic method.
+    trailer_offtracking_m: float = math.nan
     #: The netconvert defaults the verdict rests on, in words (``lane width default 3.2 m;
     #: corner computed (r 3.1 m)``), or ``data`` (:mod:`clearance.networks.provenance`).
     geometry: str = ""

@@ -303,7 +303,9 @@ def driven_record(network: str, r: DrivenRun, clearance_m: float, conflict: bool
         method="simulate", clearance_m=clearance_m, reason=r.reason,
         envelope=res.measured, lane_verdict=r.lane_verdict, lane_margin_m=r.lane_margin_m,
         path=r.path, encroaches_on=r.encroaches_on,
-        conflict=_conflict(res.measured, curve) if conflict else None, line=r.line)
+        conflict=_conflict(res.measured, curve) if conflict else None, line=r.line,
+        trailer_offtracking_m=(nan if res.swept.max_trailer_offtracking_m is None
+                               else res.swept.max_trailer_offtracking_m))
     set_overreach(rec, curve)
     return rec
 

@@ -1,6 +1,7 @@
 """Swept-path sheets: the PDF, its pages and paper, the scale, the blocks."""
 
 import hashlib
+import math
 import re
 from pathlib import Path
 
@@ -20,6 +21,7 @@ from clearance.reports.documents.sheets import (
     sheet_view,
     title_rows,
     vehicle_rows,
+    verdict_rows,
     write_sheets,
 )
 from clearance.reports.study.run import run_study
@@ -117,6 +119,27 @@ def test_vehicle_block_in_feet(study):
     assert rows["width"] == "8.50 ft"
     assert rows["trailer wheelbase"].endswith(" ft")
     assert all(" m" not in v for k, v in rows.items() if k != "source")
+
+
+def test_trailer_offtracking_is_reported_and_on_the_sheet(study):
+    """The WB-67's runs carry the trailer's offtracking, larger than the tractor's on a turn
+    (its steady state against the tractrix closed form is
+    tests/analysis/test_envelope.py::test_semitrailer_offtracking_reaches_its_closed_form); the
+    car's runs have none. The sheet's verdict block says it."""
+    nc = study.networks[0]
+    seen = 0
+    for r in study.records:
+        if r.vehicle == "P":
+            assert math.isnan(r.trailer_offtracking_m)
+        elif r.verdict != "error" and abs(r.turn_angle_deg) > 45:
+            assert r.max_offtracking_m < r.trailer_offtracking_m, r.curve_id
+            seen += 1
+    assert seen
+    curve = next(c for c in nc.curves if abs(c.turn_angle_deg) > 45)
+    recs = [r for r in study.records if r.curve_id == curve.curve_id]
+    [shown] = [s for s in shown_runs(nc, curve, recs, study.table) if s.record.vehicle == "WB-67"]
+    rows = dict(verdict_rows(shown, "m"))
+    assert rows["largest trailer offtracking"] == f"{shown.record.trailer_offtracking_m:.2f} m"
 
 
 def test_rerun_for_the_drawing_gives_the_studys_verdict_and_margin(study):
