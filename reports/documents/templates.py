@@ -2,8 +2,10 @@
 
 A template is what a designer lays over a plan: the swept envelope of the body (and
 trailer), the wheel tracks and the path of the steered-axle centre, for a turn from a
-straight approach onto an arc of the vehicle's own minimum centre-line turning radius and
-back to a straight exit. The vehicle is driven with the kinematic model (analysis/), within
+straight approach through a steering transition (a clothoid, as long as the steering needs
+to reach lock at its rate) onto an arc of the vehicle's own minimum centre-line turning
+radius (CTR) and back out the same way to a straight exit: the template is drawn at the CTR
+its title gives. The vehicle is driven with the kinematic model (analysis/), within
 its steering lock and steering rate, at crawl speed; every model is drawn at one scale.
 """
 
@@ -25,40 +27,88 @@ from clearance.reports.results.units import length_scale
 from clearance.vehicles.table import VehicleTable
 from clearance.vehicles.vehicle import Vehicle
 
-__all__ = ["RADIUS_MARGIN", "TEMPLATE_PANEL_MM", "TEMPLATE_PAPER_MM", "TEMPLATE_SCALES", "Template",
-           "TemplateDimensions", "arc_centre", "build_templates", "plot_templates", "steady_words",
-           "template_dimensions", "template_envelope_area", "template_path", "template_sheet",
-           "write_template_sheets"]
+__all__ = ["TRANSITION_FACTOR", "turn_centre", "TEMPLATE_PANEL_MM", "TEMPLATE_PAPER_MM",
+           "TEMPLATE_SCALES", "Template", "TemplateDimensions", "arc_centre", "build_templates",
+           "plot_templates", "steady_words", "template_dimensions", "template_envelope_area",
+           "template_path", "template_sheet", "write_template_sheets"]
 
-#: The arc is this much wider than the minimum CTR, so that the steering rate limit lets the
-#: steered axle stay on it while the wheels turn to lock.
-RADIUS_MARGIN = 1.03
+#: The steering transition is this many times the distance the steered axle covers at crawl
+#: speed while the wheels turn from straight to lock at the steering rate: the follower then
+#: keeps to the arc of the minimum CTR itself (about 5 cm off it, measured on P, SU-30,
+#: CITY-BUS and WB-62).
+TRANSITION_FACTOR = 1.5
 
 
-def template_path(radius_m: float, angle_deg: float, straight_m: float, step_m: float = 0.25
-                  ) -> np.ndarray:
-    """A left turn: ``straight_m`` along +x, an arc of ``radius_m`` by ``angle_deg``, a straight.
+def template_path(radius_m: float, angle_deg: float, straight_m: float, step_m: float = 0.25,
+                  transition_m: float = 0.0) -> np.ndarray:
+    """A left turn: ``straight_m`` along +x, a clothoid of ``transition_m`` from straight to
+    the curvature of ``radius_m``, the arc, a clothoid back, a straight; ``angle_deg`` in all.
 
-    The arc starts at the origin; the approach comes from ``x = -straight_m``.
+    The turn starts at the origin; the approach comes from ``x = -straight_m``. Where the
+    two clothoids alone would turn more than ``angle_deg`` they are shortened to meet.
 
     Examples
     --------
     >>> p = template_path(10.0, 90.0, 5.0)
     >>> p[0].tolist(), [round(float(v), 9) for v in p[-1]]
     ([-5.0, 0.0], [10.0, 15.0])
+    >>> q = template_path(10.0, 90.0, 5.0, transition_m=4.0)  # heading 90 at the end
+    >>> [round(float(v), 6) for v in q[-1] - q[-2]]
+    [0.0, 0.25]
     >>> template_path(10.0, 0.0, 5.0)[-1].tolist()       # zero angle: straight through
     [5.0, 0.0]
     """
     xs = np.arange(-straight_m, 0.0, step_m)
     approach = np.column_stack([xs, np.zeros_like(xs)])
     a = math.radians(angle_deg)
-    n = max(2, int(math.ceil(radius_m * a / step_m)) + 1)
-    t = np.linspace(0.0, a, n)
-    arc = np.column_stack([radius_m * np.sin(t), radius_m * (1 - np.cos(t))])
+    arc, _ = _turn(radius_m, a, min(transition_m, a * radius_m), step_m)
     end, heading = arc[-1], a
     k = np.arange(step_m, straight_m + step_m / 2, step_m)
     exit_ = end + np.column_stack([np.cos(heading) * k, np.sin(heading) * k])
     return np.vstack([approach, arc, exit_])
+
+
+def turn_centre(radius_m: float, angle_deg: float, transition_m: float = 0.0) -> np.ndarray:
+    """The centre of the arc of :func:`template_path`'s turn (a clothoid moves it).
+
+    Examples
+    --------
+    >>> turn_centre(12.5, 90.0).tolist()
+    [0.0, 12.5]
+    >>> c = turn_centre(12.5, 90.0, 4.0)  # the clothoid's shift: about L^2 / (24 R) outward
+    >>> bool(1.9 < c[0] < 2.1 and 12.5 < c[1] < 12.6)
+    True
+    """
+    a = math.radians(angle_deg)
+    return _turn(radius_m, a, min(transition_m, a * radius_m), 0.05)[1]
+
+
+def _turn(radius_m: float, angle_rad: float, spiral_m: float, step_m: float
+          ) -> tuple[np.ndarray, np.ndarray]:
+    """The turn itself from the origin heading +x: clothoid, arc, clothoid (curvature linear
+    in arc length over each clothoid), sampled every ``step_m`` or finer (the last point
+    exactly at the end of the turn), and the arc's centre."""
+    arc_m = max(radius_m * angle_rad - spiral_m, 0.0)  # two spirals turn spiral_m / radius
+    total = arc_m + 2 * spiral_m
+    n = max(2, int(math.ceil(total / step_m)) + 1)
+    if spiral_m <= 0.0:  # a plain arc, exactly
+        t = np.linspace(0.0, angle_rad, n)
+        return (np.column_stack([radius_m * np.sin(t), radius_m * (1 - np.cos(t))]),
+                np.array([0.0, radius_m]))
+    s = np.linspace(0.0, total, 8 * n)  # fine for the integration, thinned below
+    k = np.minimum.reduce([np.full_like(s, 1.0 / radius_m),
+                           s / max(spiral_m, 1e-12) / radius_m,
+                           (total - s) / max(spiral_m, 1e-12) / radius_m])
+    ds = np.diff(s)
+    theta = np.concatenate([[0.0], np.cumsum((k[1:] + k[:-1]) / 2 * ds)])
+    mid = (theta[1:] + theta[:-1]) / 2
+    x = np.concatenate([[0.0], np.cumsum(np.cos(mid) * ds)])
+    y = np.concatenate([[0.0], np.cumsum(np.sin(mid) * ds)])
+    keep = np.unique(np.linspace(0, len(s) - 1, n).round().astype(int))
+    i = min(int(np.searchsorted(s, spiral_m)), len(s) - 1)  # where the arc begins
+    centre = np.array([x[i] - radius_m * math.sin(theta[i]),
+                       y[i] + radius_m * math.cos(theta[i])])
+    return np.column_stack([x[keep], y[keep]]), centre
 
 
 @dataclass
@@ -70,6 +120,8 @@ class Template:
     radius_m: float
     run: TrackingRun
     swept: SweptPath
+    #: The steering transition (clothoid) into and out of the arc (m).
+    transition_m: float = 0.0
 
 
 def build_templates(table: VehicleTable, angle_deg: float,
@@ -77,16 +129,18 @@ def build_templates(table: VehicleTable, angle_deg: float,
     """Drive every model of ``table`` through its own template turn (one vectorised batch)."""
     vehicles = table.vehicles()
     settings = settings or TrackingSettings(tolerance_m=1.0)
-    paths, radii = [], []
+    paths, radii, transitions = [], [], []
+    crawl = float(np.max(settings.profile.speed_m_s))
     for v in vehicles:
         ctr = math.hypot(v.min_radius_m, v.wheelbase_m)
-        radius = ctr * RADIUS_MARGIN
+        transition = TRANSITION_FACTOR * crawl * v.max_steer_rad / v.max_steer_rate_rad_s
         straight = v.overall_length_m + 5.0
-        paths.append(template_path(radius, angle_deg, straight))
-        radii.append(radius)
+        paths.append(template_path(ctr, angle_deg, straight, transition_m=transition))
+        radii.append(ctr)
+        transitions.append(transition)
     runs = simulate_batch(vehicles, paths, settings)
-    return [Template(v, angle_deg, r, run, swept_path(run))
-            for v, r, run in zip(vehicles, radii, runs, strict=True)]
+    return [Template(v, angle_deg, r, run, swept_path(run), ls)
+            for v, r, run, ls in zip(vehicles, radii, runs, transitions, strict=True)]
 
 
 def plot_templates(table: VehicleTable, folder: str | Path, units: str = "m",
@@ -176,10 +230,10 @@ def arc_centre(t: Template) -> np.ndarray:
     Examples
     --------
     >>> from types import SimpleNamespace as T
-    >>> arc_centre(T(radius_m=12.5)).tolist()
+    >>> arc_centre(T(radius_m=12.5, angle_deg=90.0, transition_m=0.0)).tolist()
     [0.0, 12.5]
     """
-    return np.array([0.0, t.radius_m])
+    return turn_centre(t.radius_m, t.angle_deg, t.transition_m)
 
 
 class TemplateDimensions(TypedDict):
@@ -339,8 +393,9 @@ def template_sheet(t90: Template, t180: Template, metrics_row, units: str, colou
              fontweight="bold", va="top")
     fig.text(14 / W, (H - 17) / H,
              f"{v.category or 'vehicle'}; steered-axle centre on an arc of "
-             f"{length_text(t90.radius_m, units)} (CTR at full lock × {RADIUS_MARGIN:g}, so "
-             f"the steering rate can reach lock), crawl speed; scale 1:{n} on A3",
+             f"{length_text(t90.radius_m, units)} (the CTR at full lock), entered and left "
+             f"through a steering transition at its steering rate, crawl speed; "
+             f"scale 1:{n} on A3",
              fontsize=7.5, va="top")
     rows = vehicle_rows(v, units)
     left = [f"{k}: {val}" for k, val in rows if k != "source"]

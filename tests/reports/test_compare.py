@@ -3,6 +3,7 @@
 import csv
 import math
 
+import numpy as np
 import pytest
 
 from clearance.analysis.control_law import safe_pathway
@@ -47,6 +48,27 @@ def test_180_degree_template_reaches_the_steady_swept_width():
     expected = float(safe_pathway(rho, v.wheelbase_m, v.width_m, v.front_overhang_m))
     assert tpl.run.followed
     assert tpl.swept.max_swept_width_m == pytest.approx(expected, rel=0.01)
+
+
+def test_templates_are_drawn_at_the_minimum_ctr_their_titles_give():
+    """The steered axle runs on the arc of the CTR at full lock itself (within 10 cm over the
+    middle of a 180-degree turn), entered through its steering transition: the template is
+    what its title says, not a 3 % wider circle."""
+    from clearance.reports.documents.templates import arc_centre
+
+    t = load_tables(None, ["P", "CITY-BUS", "WB-62"])
+    for tpl in build_templates(t, 180.0):
+        v = tpl.vehicle
+        assert tpl.radius_m == math.hypot(v.min_radius_m, v.wheelbase_m)  # the CTR itself
+        assert tpl.transition_m > 0 and tpl.run.followed
+        tr = tpl.run.trajectory
+        cx, cy = arc_centre(tpl)
+        # the arc runs from below the centre (-90 degrees) round to above it (+90): its
+        # middle third, well clear of the transitions
+        polar = np.degrees(np.arctan2(tr.yf_m - cy, tr.xf_m - cx))
+        middle = (np.abs(polar) < 30.0) & (tr.xf_m > cx)
+        r = np.hypot(tr.xf_m[middle] - cx, tr.yf_m[middle] - cy)
+        assert middle.any() and np.abs(r - tpl.radius_m).max() < 0.10, v.name
 
 
 def test_compare_command_writes_table_and_figures(tmp_path, capsys):
