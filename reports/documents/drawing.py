@@ -358,11 +358,55 @@ def _wheel_names(curve: Curve, run: TrackingRun) -> tuple[str, str, str]:
     return f"front_{outer}", f"rear_{inner}", f"trailer_{inner}"
 
 
+#: The conflict hatches: drawn under the envelopes' outlines, the bodies and the wheel paths,
+#: their lines this opaque so that the vehicle reads through them.
+HATCH_ZORDER, HATCH_ALPHA = 6, 0.55
+
+
+def conflict_areas(curve: Curve, envelopes: Sequence[BaseGeometry]
+                   ) -> list[tuple[BaseGeometry, tuple[str, str]]]:
+    """The envelopes' parts beyond their own lanes (but paved) and beyond the pavement, each
+    merged over every envelope given (one hatch per kind, never two overlapping).
+
+    Examples
+    --------
+    >>> from types import SimpleNamespace as C
+    >>> lanes, paved = shapely.box(0, 0, 10, 3), shapely.box(0, -3, 10, 3)
+    >>> a, b = shapely.box(1, 1, 4, 5), shapely.box(3, 1, 6, 5)  # overlapping, both out
+    >>> [(round(g.area, 3), k[0]) for g, k in conflict_areas(C(own_lanes=lanes, paved=paved),
+    ...                                                    [a, b])]
+    [(10.0, 'xxxx')]
+    >>> conflict_areas(C(own_lanes=None, paved=None), [a])
+    []
+    """
+    out: list[tuple[BaseGeometry, tuple[str, str]]] = []
+    whole = shapely.union_all([e for e in envelopes if e is not None and not e.is_empty])
+    if whole.is_empty:
+        return out
+    if curve.own_lanes is not None:
+        beyond = shapely.difference(whole, curve.own_lanes)
+        if curve.paved is not None:
+            beyond = shapely.intersection(beyond, curve.paved)
+        out.append((beyond, OUTSIDE_LANES))
+    if curve.paved is not None:
+        out.append((shapely.difference(whole, curve.paved), OUTSIDE_PAVEMENT))
+    return [(g, kind) for g, kind in out if not g.is_empty and g.area >= MIN_CONFLICT_M2]
+
+
+def draw_conflicts(ax: Axes, curve: Curve, envelopes: Sequence[BaseGeometry]) -> None:
+    """Hatch the merged conflict areas of ``envelopes`` (:func:`conflict_areas`), light and
+    under the vehicles."""
+    for geom, (hatch, colour) in conflict_areas(curve, envelopes):
+        fill_geometry(ax, geom, fc="none", ec=(*_rgb(colour), HATCH_ALPHA), hatch=hatch,
+                      lw=0.5, zorder=HATCH_ZORDER)
+
+
 def draw_run(ax: Axes, curve: Curve, s: Shown, units: str, bodies: int = 7,
-             dimensions: bool = True, envelope_fill: bool = False, words: bool = True
-             ) -> None:
+             dimensions: bool = True, envelope_fill: bool = False, words: bool = True,
+             hatches: bool = True) -> None:
     """One vehicle's swept path on a plan (see the module docstring); ``words``: the reason
-    of a stop in full (else the vehicle's name only)."""
+    of a stop in full (else the vehicle's name only); ``hatches``: its conflict hatched
+    (:func:`draw_conflicts`; a figure of several runs hatches them together instead)."""
     rec, colour = s.record, s.colour
     ls, lw = VERDICT_STYLE.get(rec.verdict, VERDICT_STYLE["error"])
     res = None if s.driven is None else s.driven.result
@@ -376,15 +420,8 @@ def draw_run(ax: Axes, curve: Curve, s: Shown, units: str, bodies: int = 7,
     _outline(ax, swept.envelope, color=colour, ls=ls, lw=lw, zorder=7)
     if res.clearance.offset_m > 0:
         _outline(ax, res.measured, color=colour, ls=(0, (1, 1.5)), lw=0.7, zorder=7)
-    for geom, area, (hatch, hc) in ((res.measured, curve.own_lanes, OUTSIDE_LANES),
-                                    (res.measured, curve.paved, OUTSIDE_PAVEMENT)):
-        if area is None:
-            continue
-        out = shapely.difference(geom, area)
-        if hatch == OUTSIDE_LANES[0] and curve.paved is not None:
-            out = shapely.intersection(out, curve.paved)
-        if not out.is_empty and out.area >= MIN_CONFLICT_M2:
-            fill_geometry(ax, out, fc="none", ec=hc, hatch=hatch, lw=0.6, zorder=10)
+    if hatches:
+        draw_conflicts(ax, curve, [res.measured])
     tr = run.trajectory
     names = _wheel_names(curve, run)
     styles = {names[0]: "-", names[1]: (0, (3, 1.5)), names[2]: (0, (1, 1))}
@@ -500,7 +537,11 @@ def draw_curve(ax: Axes, nc: NetworkCurves, curve: Curve, shown: Sequence[Shown]
     # and where they stop, so that the drawing stays legible
     for k, s in enumerate(shown):
         draw_run(ax, curve, s, units, bodies if k == 0 or len(shown) <= 2 else 2,
-                 dimensions=k == 0, envelope_fill=single, words=k == 0 or single)
+                 dimensions=k == 0, envelope_fill=single, words=k == 0 or single,
+                 hatches=False)
+    # every run's conflict in one hatch per kind, under the vehicles
+    draw_conflicts(ax, curve, [s.driven.result.measured for s in shown
+                               if s.driven is not None and s.driven.result is not None])
     ax.set_xlim(bounds[0], bounds[1])
     ax.set_ylim(bounds[2], bounds[3])
     plan_axes(ax, units)
