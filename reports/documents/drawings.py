@@ -47,6 +47,7 @@ from clearance.reports.study.executor import (
 from clearance.reports.study.run import (
     NetworkCurves,
     Study,
+    progress_bar,
 )
 
 __all__ = ["COMPACT", "Drawing", "Drawings", "NetworkTask", "curve_figure_files", "draw",
@@ -191,8 +192,10 @@ class Drawings:
     def finish(self) -> None:
         """Wait for every drawing and write its files; draw those whose worker died again
         (:func:`clearance.reports.study.executor.run_isolated`), and give up those that kill it
-        alone."""
+        alone. On a terminal a progress bar counts them (the phase after the study's bar:
+        figures, sheets and exports), as the study's bar counts its runs."""
         again: dict[str, list[Drawing]] = {}
+        done = progress_bar(len(self._pending), "drawing figures, sheets, exports", "drawing")
         for drawing, key, future in self._pending:
             try:
                 files = None if future is None else self.executor.outcome(future)
@@ -204,11 +207,13 @@ class Drawings:
                 again.setdefault(key, []).append(drawing)
             else:
                 self._write(files)
+                done(1)
         self._pending.clear()
         for key, drawings in again.items():
             for _, files in run_isolated(self.executor, draw, drawings, _cannot_split,
                                          self._lose, self._shared[key]):
                 self._write(files)
+                done(1)
 
     def _write(self, files: dict[str, bytes]) -> None:
         for rel, data in files.items():

@@ -184,13 +184,13 @@ def study_networks(paths: Sequence[str | Path],
     return out
 
 
-def progress_bar(total: int, desc: str) -> Callable[[int], None]:
+def progress_bar(total: int, desc: str, unit: str = "run") -> Callable[[int], None]:
     """A tqdm bar on an interactive terminal; silent in CI and when output is piped."""
     if os.environ.get("CI") or not sys.stderr.isatty() or total == 0:
         return lambda n: None
     from tqdm import tqdm
 
-    bar = tqdm(total=total, desc=desc, unit="run", leave=False, dynamic_ncols=True)
+    bar = tqdm(total=total, desc=desc, unit=unit, leave=False, dynamic_ncols=True)
 
     def update(n: int) -> None:
         bar.update(n)
