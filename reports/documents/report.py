@@ -322,7 +322,7 @@ table{border-collapse:collapse;font-size:12px;margin:0.5em 0}
 th,td{border:1px solid #ccc;padding:2px 5px;text-align:right}
 th{background:#f2f2f2}
 td.id,th.id{text-align:left;font-family:monospace;white-space:nowrap}
-.matrix{overflow-x:auto;max-width:100%}
+.matrix{overflow:auto;max-width:100%;max-height:85vh}
 .matrix table{margin:0}
 .matrix thead th{position:sticky;top:0;z-index:2}
 .matrix th.id,.matrix td.id{position:sticky;left:0;background:#fff;z-index:1}
@@ -340,7 +340,7 @@ figcaption ul{margin:0.3em 0;padding-left:1.2em}
 body{max-width:none;margin:0;font-size:10pt}
 nav.toc{break-after:page}
 h2{break-before:page}
-.matrix{overflow:visible}
+.matrix{overflow:visible;max-height:none}
 .matrix thead{display:table-header-group}
 .matrix{break-inside:avoid}
 .matrix thead th,.matrix th.id,.matrix td.id{position:static}
@@ -384,6 +384,27 @@ def _summary_html(s: Section, units: str) -> str:
     return f'<p class="summary">{text}.</p>'
 
 
+#: A curve id longer than this many characters is shortened in the matrix (the full id on
+#: hover): a 190-character OSM cluster id pushed every verdict column off the screen.
+MAX_ID_CHARS = 48
+
+
+def short_id(curve_id: str, limit: int = MAX_ID_CHARS) -> str:
+    """``curve_id`` shortened in its middle to ``limit`` characters, its kind and junction
+    start and its lanes' end kept.
+
+    >>> short_id("turn:cluster_1_2_3_4_5_6_7_8_9:a_0->b_0", 24)
+    'turn:cluster_1…:a_0->b_0'
+    >>> short_id("turn:J:a_0->b_0")
+    'turn:J:a_0->b_0'
+    """
+    if len(curve_id) <= limit:
+        return curve_id
+    tail = curve_id[curve_id.rfind(":"):] if ":" in curve_id else ""
+    tail = tail if len(tail) < limit // 2 else tail[-(limit // 2):]
+    return curve_id[:limit - len(tail) - 1] + "…" + tail
+
+
 def _matrix_html(s: Section, links: dict[str, str]) -> list[str]:
     e = html.escape
     out = []
@@ -408,8 +429,8 @@ def _matrix_html(s: Section, links: dict[str, str]) -> list[str]:
                 cells.append(f'<td style="background:{COLOURS[verdict]}33">'
                              f'<a href="#{href}" title="{e(tip)}">{SYMBOL[verdict]} '
                              f"{cell_margin(margin)}{' (waived)' if w else ''}</a></td>")
-            out.append(f'<tr><td class="id"><a href="#{href}">{e(str(cid))}</a></td>'
-                       f'{"".join(cells)}</tr>')
+            out.append(f'<tr><td class="id" title="{e(str(cid))}"><a href="#{href}">'
+                       f'{e(short_id(str(cid)))}</a></td>{"".join(cells)}</tr>')
         out.append("</tbody></table></div>")
     return out
 

@@ -102,3 +102,28 @@ def test_the_report_opens_in_chromium(browser, report: Path, tmp_path: Path):
     assert pdf_like == "visible"  # printed, the matrix is not clipped by a scroll box
     assert (shots / "report_top.png").stat().st_size > 10_000
     page.close()
+
+
+STICKY = """() => {
+  const box = document.querySelector('.matrix');
+  const head = box.querySelector('thead th');
+  const first = box.querySelector('tbody td.id');
+  const before = head.getBoundingClientRect().top - box.getBoundingClientRect().top;
+  box.scrollTop = 60;
+  const after = head.getBoundingClientRect().top - box.getBoundingClientRect().top;
+  return {scrolls: box.scrollHeight > box.clientHeight, before, after,
+          rowMoved: first.getBoundingClientRect().top, boxTop: box.getBoundingClientRect().top,
+          idWidth: first.getBoundingClientRect().width, boxWidth: box.clientWidth};
+}"""
+
+
+def test_matrix_headings_stay_in_view_when_it_scrolls(browser, report: Path):
+    """In a short window the matrix scrolls inside its box: its heading row stays at the
+    box's top while the rows pass under it (position: sticky inside the scrolling box)."""
+    page = browser.new_page(viewport={"width": 1280, "height": 220})
+    page.goto(report.as_uri(), wait_until="load")
+    got = page.evaluate(STICKY)
+    assert got["scrolls"], "the matrix should scroll in a 220 px window"
+    assert abs(got["before"]) < 2 and abs(got["after"]) < 2, got
+    assert got["rowMoved"] < got["boxTop"]  # the first row went up under the heading
+    assert got["idWidth"] < got["boxWidth"] / 2  # the curve column leaves room for verdicts
