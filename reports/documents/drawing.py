@@ -55,11 +55,12 @@ from clearance.reports.results.units import length_scale
 from clearance.reports.study.run import NetworkCurves
 from clearance.vehicles.vehicle import Vehicle
 
-__all__ = ["BADGE", "LANE_CENTRE", "MIN_CONFLICT_M2", "OUTSIDE_LANES", "OUTSIDE_PAVEMENT",
-           "OWN_LANES", "PATH_TAKEN", "Shown", "VERDICT_STYLE", "badge_text", "dimension",
-           "draw_bodies", "draw_curve", "draw_run", "is_swung", "legend_handles", "length_text",
-           "overreach", "path_words", "rerun", "run_geometry", "stop_point", "stop_words",
-           "view_bounds"]
+__all__ = ["BADGE", "HATCH_ALPHA", "HATCH_ZORDER", "LANE_CENTRE", "MIN_CONFLICT_M2",
+           "OUTSIDE_LANES", "OUTSIDE_PAVEMENT", "OWN_LANES", "PATH_TAKEN", "Shown",
+           "VERDICT_STYLE", "angle_text", "badge_text", "conflict_areas", "dimension",
+           "draw_bodies", "draw_conflicts", "draw_curve", "draw_run", "is_swung",
+           "legend_handles", "length_text", "overreach", "path_words", "rerun", "run_geometry",
+           "stop_point", "stop_words", "view_bounds"]
 
 #: Envelope outline by verdict (the verdict is told by line style and badge, not fill).
 VERDICT_STYLE = {"clear": ("-", 1.1), "encroaches": ((0, (5, 2)), 1.4),
@@ -144,6 +145,18 @@ def rerun(nc: NetworkCurves, curve: Curve, vehicles: Sequence[Vehicle],
              if r.path == "swung" and (line := r.line) is not None]
     drive_lines([d for d, _ in lined], [line for _, line in lined], clearance_m)
     return [out[i] for i in range(len(records))]
+
+
+def angle_text(turn_deg: float) -> str:
+    """A curve's signed turn in whole degrees (left positive), never ``-0°``.
+
+    Examples
+    --------
+    >>> angle_text(-90.2), angle_text(-0.3), angle_text(45.5), angle_text(0.4)
+    ('-90°', '0°', '+46°', '0°')
+    """
+    whole = round(turn_deg)
+    return "0°" if whole == 0 else f"{whole:+d}°"
 
 
 def length_text(value_m: float, units: str, digits: int = 2) -> str:

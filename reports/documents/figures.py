@@ -30,7 +30,14 @@ from matplotlib.lines import Line2D
 
 from clearance.networks.curves import Curve
 from clearance.networks.plot import plot_plan
-from clearance.reports.documents.drawing import Shown, draw_curve, length_text, rerun, view_bounds
+from clearance.reports.documents.drawing import (
+    Shown,
+    angle_text,
+    draw_curve,
+    length_text,
+    rerun,
+    view_bounds,
+)
 from clearance.reports.documents.plotting import (
     add_north_arrow,
     add_scale_bar,
@@ -205,7 +212,7 @@ def plot_curve(nc: NetworkCurves, curve: Curve, records: list[RunRecord], stem: 
     fig, ax = new_figure(7.0, 7.6)
     bounds = view_bounds(curve, shown)
     handles = draw_curve(ax, nc, curve, shown, units, bounds)
-    angle = f"{curve.turn_angle_deg:+.0f}°"
+    angle = angle_text(curve.turn_angle_deg)
     radius = (f", R min {length_text(curve.min_radius_m, units, 1)}"
               if math.isfinite(curve.min_radius_m) else "")
     ax.set_title(f"{nc.name}: {curve.curve_id}\n{curve.kind} at junction {curve.junction}, "

@@ -33,6 +33,7 @@ from clearance.networks.curves import Curve
 from clearance.reports.documents.drawing import (
     BADGE,
     Shown,
+    angle_text,
     draw_curve,
     length_text,
     path_words,
@@ -225,7 +226,8 @@ def _sheet(nc: NetworkCurves, s: Shown, units: str, title_rows: list[tuple[str, 
     ax = fig.add_axes((fx / W, fy / H, fw / W, fh / H))
     handles = draw_curve(ax, nc, curve, [s], units, bounds, bodies=9, badges=False)
     ax.set_title(f"{s.record.vehicle} on {curve.curve_id}  ({curve.kind}, "
-                 f"{curve.turn_angle_deg:+.0f}°)   scale 1:{n} on A3", fontsize=9, loc="left")
+                 f"{angle_text(curve.turn_angle_deg)})   scale 1:{n} on A3", fontsize=9,
+                 loc="left")
     bx, bw = BLOCKS_MM
     top = H - 10.0
     rows = [("network", nc.name), ("curve", curve.curve_id), ("kind", curve.kind),
