@@ -49,6 +49,7 @@ from clearance.networks.curves import Curve
 from clearance.networks.driving.drive import DrivenRun, DriveOptions, drive
 from clearance.networks.driving.runs import drive_lines
 from clearance.networks.plot import EDGE_OF_PAVEMENT, fill_geometry, plot_plan
+from clearance.reports.documents.colours import VERDICT_COLOURS
 from clearance.reports.documents.plotting import add_north_arrow, add_scale_bar, plan_axes
 from clearance.reports.results.records import RunRecord
 from clearance.reports.results.units import length_scale
@@ -67,11 +68,10 @@ VERDICT_STYLE = {"clear": ("-", 1.1), "encroaches": ((0, (5, 2)), 1.4),
                  "fails": ((0, (7, 2, 1.5, 2)), 1.8), "cannot-turn": ((0, (1.5, 1.5)), 1.8),
                  "error": ((0, (1, 3)), 1.0)}
 #: Badge colours of the verdicts (as the report's plans use them).
-BADGE = {"clear": "#1e8449", "encroaches": "#d35400", "fails": "#c0392b",
-         "cannot-turn": "#7d3c98", "error": "#000000"}
+BADGE = VERDICT_COLOURS
 #: Hatches and colours of the conflict.
-OUTSIDE_LANES = ("////", "#e67e22")
-OUTSIDE_PAVEMENT = ("xxxx", "#c0392b")
+OUTSIDE_LANES = ("////", VERDICT_COLOURS["encroaches"])
+OUTSIDE_PAVEMENT = ("xxxx", VERDICT_COLOURS["fails"])
 OWN_LANES = "#2471a3"
 #: Conflict pieces smaller than this (m²) are slivers of the polygon arithmetic.
 MIN_CONFLICT_M2 = 0.005

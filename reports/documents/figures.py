@@ -30,6 +30,7 @@ from matplotlib.lines import Line2D
 
 from clearance.networks.curves import Curve
 from clearance.networks.plot import plot_plan
+from clearance.reports.documents.colours import VERDICT_COLOURS
 from clearance.reports.documents.drawing import (
     Shown,
     angle_text,
@@ -57,8 +58,7 @@ if TYPE_CHECKING:
 __all__ = ["COLOURS", "CurveFigure", "core_points", "draw_curve_figure", "plot_curve",
            "plot_network", "scratch_files", "shown_runs", "sites", "worst_by_curve"]
 
-COLOURS = {"clear": "#1e8449", "encroaches": "#e67e22", "fails": "#c0392b",
-           "cannot-turn": "#7d3c98", "error": "#000000"}
+COLOURS = VERDICT_COLOURS
 
 
 def worst_by_curve(frame: pd.DataFrame) -> pd.DataFrame:

@@ -17,6 +17,8 @@ import io
 from collections.abc import Sequence
 from pathlib import Path
 
+from clearance.reports.documents.colours import VERDICT_COLOURS
+
 __all__ = ["COMPACT_MADE", "HTML_IMAGE_COLOURS", "HTML_IMAGE_WIDTH_PX", "compact_key",
            "compact_png", "img_tag"]
 
@@ -31,29 +33,36 @@ COMPACT_MADE: dict[str, bytes] = {}
 
 
 def compact_key(data: bytes, width_px: int = HTML_IMAGE_WIDTH_PX,
-                colours: int = HTML_IMAGE_COLOURS) -> str:
-    """The key of a full PNG's compact copy in :data:`COMPACT_MADE`: its SHA-256 and the
-    size asked for.
+                colours: int = HTML_IMAGE_COLOURS, kept: Sequence[str] = ()) -> str:
+    """The key of a full PNG's compact copy in :data:`COMPACT_MADE`: its SHA-256, the size
+    asked for and the colours kept besides the verdicts'.
 
     >>> compact_key(b"")[-7:]
     '-600-24'
+    >>> compact_key(b"", kept=["#5dade2"]) != compact_key(b"")
+    True
     """
-    return f"{hashlib.sha256(data).hexdigest()}-{width_px}-{colours}"
+    extra = sorted(set(kept) - set(VERDICT_COLOURS.values()))
+    tail = "-" + hashlib.sha256(" ".join(extra).encode()).hexdigest()[:8] if extra else ""
+    return f"{hashlib.sha256(data).hexdigest()}-{width_px}-{colours}{tail}"
 
 
 def compact_png(png: Path, width_px: int = HTML_IMAGE_WIDTH_PX,
                 colours: int = HTML_IMAGE_COLOURS, kept: Sequence[str] = ()) -> bytes:
     """A figure made small for the HTML: scaled down to ``width_px`` and quantised to a
-    palette of ``colours`` (PNG, with Pillow, which matplotlib requires); the ``kept``
-    colours (``#rrggbb``) are in the palette whatever the median cut finds (thin coloured
-    lines on a grey plan would otherwise lose their colour).
+    palette of ``colours`` (PNG, with Pillow, which matplotlib requires); the verdict
+    colours (:data:`~clearance.reports.documents.colours.VERDICT_COLOURS`) and the ``kept``
+    ones (``#rrggbb``) are in the palette whatever the median cut finds, and the pixels
+    nearest each of them take it exactly (thin coloured lines on a grey plan would otherwise
+    lose their colour, and encroaches orange merge with fails red).
 
     The full-resolution PNG and the SVG stay in ``figures/``.
     """
     from PIL import Image
 
     data = Path(png).read_bytes()
-    made = COMPACT_MADE.get(compact_key(data, width_px, colours))
+    kept = list(dict.fromkeys([*VERDICT_COLOURS.values(), *kept]))
+    made = COMPACT_MADE.get(compact_key(data, width_px, colours, kept))
     if made is not None:
         return made
     with Image.open(io.BytesIO(data)) as opened:
@@ -61,17 +70,14 @@ def compact_png(png: Path, width_px: int = HTML_IMAGE_WIDTH_PX,
         if im.width > width_px:
             im = im.resize((width_px, round(im.height * width_px / im.width)),
                            Image.Resampling.LANCZOS)
-        if kept:
-            cut = im.quantize(colours - len(kept), method=Image.Quantize.MEDIANCUT,
-                              dither=Image.Dither.NONE)
-            entries = (cut.getpalette() or [])[:3 * (colours - len(kept))]
-            entries += [b for c in kept for b in bytes.fromhex(c.lstrip("#"))]
-            palette = Image.new("P", (1, 1))
-            palette.putpalette(entries + entries[:3] * (256 - len(entries) // 3))
-            im = im.quantize(palette=palette, dither=Image.Dither.NONE)
-        else:
-            im = im.quantize(colours, method=Image.Quantize.MEDIANCUT,
-                             dither=Image.Dither.NONE)
+        # the median cut's palette less room for the kept colours, then those exactly
+        cut = im.quantize(colours - len(kept), method=Image.Quantize.MEDIANCUT,
+                          dither=Image.Dither.NONE)
+        entries = (cut.getpalette() or [])[:3 * (colours - len(kept))]
+        entries += [b for c in kept for b in bytes.fromhex(c.lstrip("#"))]
+        palette = Image.new("P", (1, 1))
+        palette.putpalette(entries + entries[:3] * (256 - len(entries) // 3))
+        im = im.quantize(palette=palette, dither=Image.Dither.NONE)
         buf = io.BytesIO()
         im.save(buf, "PNG", optimize=True)
         return buf.getvalue()

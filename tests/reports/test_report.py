@@ -118,8 +118,9 @@ def test_html_contents_links_and_captions(report, rows):
     assert '<nav class="toc"' in text and 'href="#net-intersection-' in text
     # every matrix row and cell links to its curve's section, and that section lists every
     # vehicle run on the curve, margins in words with the paved margin
-    matrix = re.findall(r'<tr><td class="id"><a href="#(curve-[^"]+)">([^<]+)</a></td>(.*?)</tr>',
-                        text)
+    matrix = re.findall(r'<tr><td class="id" title="([^"]+)"><a href="#(curve-[^"]+)">[^<]+</a>'
+                        r'</td>(.*?)</tr>', text)
+    matrix = [(target, cid, cells) for cid, target, cells in matrix]  # the full id: title
     assert matrix
     for target, cid, cells in matrix:
         assert cells.count(f'href="#{target}"') == len(VEHICLES)
