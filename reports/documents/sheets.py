@@ -24,12 +24,15 @@ from collections.abc import Sequence
 from pathlib import Path
 
 import matplotlib.pyplot as plt
+import numpy as np
+import shapely
 from matplotlib.backends.backend_pdf import PdfPages
 from matplotlib.figure import Figure
 from matplotlib.patches import Rectangle
 
 from clearance.analysis.turning import centre_line_radius
 from clearance.networks.curves import Curve
+from clearance.networks.geometry import cut_polyline
 from clearance.reports.documents.drawing import (
     BADGE,
     Shown,
@@ -39,7 +42,6 @@ from clearance.reports.documents.drawing import (
     path_words,
     rerun,
     stop_words,
-    view_bounds,
 )
 from clearance.reports.documents.plotting import STYLE, vehicle_colours
 from clearance.reports.output.atomic import write_bytes_atomic
@@ -55,7 +57,10 @@ __all__ = ["BLOCKS_MM", "FRAME_MM", "MAX_SHEETS", "MM", "PAPER_MM", "SCALES", "f
            "verdict_rows", "write_sheets"]
 
 #: Drawing scales tried in order (1:N); the first at which the drawing fits is used.
-SCALES = (200, 250, 500, 1000)
+SCALES = (100, 200, 250, 500, 1000)
+#: A sheet shows the swept path this far (m) around the feature: the manoeuvre, not the
+#: lead-in and run-out (a bus length either side of the junction).
+MANOEUVRE_REACH_M = 12.0
 #: Paper: A3 landscape, millimetres.
 PAPER_MM = (420.0, 297.0)
 #: Sheets per network at most (worst first).
@@ -201,12 +206,48 @@ def _block(fig: Figure, x: float, top: float, w: float, title: str,
     return y0
 
 
+def manoeuvre_box(curve: Curve, s: Shown, reach_m: float = MANOEUVRE_REACH_M
+                  ) -> tuple[float, float, float, float]:
+    """What a sheet must show (x0, y0, x1, y1, m): the feature and the envelope within
+    ``reach_m`` of it (the manoeuvre; the lead-in and run-out beyond are left to the edge of
+    the paper). The envelope alone where the feature has no length.
+
+    Examples
+    --------
+    >>> import numpy as np, shapely
+    >>> from types import SimpleNamespace as S
+    >>> line = np.array([[-100.0, 0, 0], [0, 0, 0], [0, 100, 0]])
+    >>> c = S(centerline=line, core_start_m=95.0, core_end_m=105.0)
+    >>> env = shapely.LineString(line[:, :2]).buffer(1.5)  # 200 m of swept path
+    >>> [round(v) for v in manoeuvre_box(c, S(record=S(envelope=env)), 12.0)]
+    [-17, -2, 2, 17]
+    """
+    line = np.asarray(curve.centerline, dtype=float)
+    core = cut_polyline(line, curve.core_start_m, curve.core_end_m)[:, :2]
+    env = s.record.envelope
+    if len(core) < 2 or curve.core_end_m <= curve.core_start_m:
+        b = (env.bounds if env is not None and not env.is_empty
+             else (*line[:, :2].min(axis=0), *line[:, :2].max(axis=0)))
+        return float(b[0]), float(b[1]), float(b[2]), float(b[3])
+    x0, y0 = core.min(axis=0)
+    x1, y1 = core.max(axis=0)
+    if env is not None and not env.is_empty:
+        near = shapely.clip_by_rect(env, x0 - reach_m, y0 - reach_m, x1 + reach_m,
+                                    y1 + reach_m)
+        if not near.is_empty:
+            b = near.bounds
+            x0, y0, x1, y1 = min(x0, b[0]), min(y0, b[1]), max(x1, b[2]), max(y1, b[3])
+    return float(x0), float(y0), float(x1), float(y1)
+
+
 def sheet_view(curve: Curve, s: Shown) -> tuple[tuple[float, float, float, float], int]:
-    """The drawing's bounds (x0, x1, y0, y1, m) and scale ``1:N``: the feature and the
-    envelope with 5 m around them, at the first scale of :data:`SCALES` that fits
-    :data:`FRAME_MM`; the bounds fill the frame exactly at that scale."""
+    """The drawing's bounds (x0, x1, y0, y1, m) and scale ``1:N``: the manoeuvre
+    (:func:`manoeuvre_box`) with 3 m around it, at the first scale of :data:`SCALES` that
+    fits :data:`FRAME_MM`; the bounds fill the frame exactly at that scale, centred on it."""
     fw, fh = FRAME_MM[2:]
-    x0, x1, y0, y1 = view_bounds(curve, [s], pad_m=5.0, aspect=fw / fh)
+    bx0, by0, bx1, by1 = manoeuvre_box(curve, s)
+    pad = 3.0
+    x0, x1, y0, y1 = bx0 - pad, bx1 + pad, by0 - pad, by1 + pad
     n = fit_scale(x1 - x0, y1 - y0)
     cx, cy = (x0 + x1) / 2, (y0 + y1) / 2
     half_w, half_h = fw * n / 2000.0, fh * n / 2000.0

@@ -17,6 +17,7 @@ from clearance.reports.documents.sheets import (
     PAPER_MM,
     SCALES,
     fit_scale,
+    manoeuvre_box,
     pick_sheets,
     sheet_view,
     title_rows,
@@ -83,23 +84,38 @@ def test_fit_scale_takes_the_first_scale_that_fits():
     assert fit_scale(1e6, 1.0) == SCALES[-1]
 
 
-def test_the_sheet_scale_fits_the_drawing_and_is_exact(study):
+def test_the_sheet_scale_fits_the_manoeuvre_and_is_exact(study):
     by_id = {c.curve_id: c for n in study.networks for c in n.curves}
     for r in pick_sheets(study.records, 4):
         curve = by_id[r.curve_id]
         (x0, x1, y0, y1), n = sheet_view(curve, Shown(r, "k"))
-        assert n in SCALES
+        assert n in SCALES and n in (100, 200, 250, 500, 1000)
         # the bounds fill the frame at 1:n: 1 mm of paper is n mm of ground
         assert (x1 - x0) * 1000 / n == pytest.approx(FRAME_MM[2])
         assert (y1 - y0) * 1000 / n == pytest.approx(FRAME_MM[3])
-        e = r.envelope.bounds
-        assert x0 <= e[0] and e[2] <= x1 and y0 <= e[1] and e[3] <= y1
+        # the manoeuvre is on the sheet: the feature and the swept path near it
+        b = manoeuvre_box(curve, Shown(r, "k"))
+        assert x0 <= b[0] and b[2] <= x1 and y0 <= b[1] and b[3] <= y1
         finer = [s for s in SCALES if s < n]
-        if finer:  # the next finer scale does not hold the view
-            vx0, vx1, vy0, vy1 = view_bounds(curve, [Shown(r, "k")], pad_m=5.0,
-                                             aspect=FRAME_MM[2] / FRAME_MM[3])
-            assert ((vx1 - vx0) * 1000 / finer[-1] > FRAME_MM[2]
-                    or (vy1 - vy0) * 1000 / finer[-1] > FRAME_MM[3])
+        if finer:  # the next finer scale does not hold the manoeuvre with its margin
+            assert ((b[2] - b[0] + 6) * 1000 / finer[-1] > FRAME_MM[2]
+                    or (b[3] - b[1] + 6) * 1000 / finer[-1] > FRAME_MM[3])
+
+
+def test_a_sheet_is_drawn_from_the_manoeuvre_not_the_lead_in(study):
+    """The whole envelope (a vehicle length of lead-in and run-out) would need a coarser
+    scale on some sheet; the manoeuvre's view never needs more room than it."""
+    by_id = {c.curve_id: c for n in study.networks for c in n.curves}
+    finer = 0
+    for r in pick_sheets(study.records, 8):
+        curve = by_id[r.curve_id]
+        _, n = sheet_view(curve, Shown(r, "k"))
+        vx0, vx1, vy0, vy1 = view_bounds(curve, [Shown(r, "k")], pad_m=5.0,
+                                         aspect=FRAME_MM[2] / FRAME_MM[3])
+        whole = fit_scale(vx1 - vx0, vy1 - vy0)
+        assert n <= whole
+        finer += n < whole
+    assert finer, "the lead-in no longer sets the scale of any sheet"
 
 
 def test_title_block_hashes_are_the_files_sha256(study):
