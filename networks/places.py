@@ -19,7 +19,7 @@ from clearance.networks.curves import Curve
 from clearance.networks.model import Network
 from clearance.networks.paths import junction_of_internal
 
-__all__ = ["KINK_DEG", "Place", "kink_near", "place_of"]
+__all__ = ["KINK_DEG", "Place", "core_span", "feature_ends", "kink_near", "place_of"]
 
 #: A lane shape turning by more than this at one point (degrees) is a kink (a drawn corner
 #: of the edge's own geometry, not a curve a driver follows).
@@ -61,6 +61,40 @@ class Place:
     words: str
 
 
+def core_span(curve: Curve) -> tuple[int, int] | None:
+    """Indices in ``curve.lanes`` of the feature's first and last lane; None when no lane of
+    the feature is among them.
+
+    >>> from types import SimpleNamespace as C
+    >>> core_span(C(lanes=("a_0", ":J_0_0", "b_0"), core_lanes=(":J_0_0",)))
+    (1, 1)
+    >>> core_span(C(lanes=("a_0",), core_lanes=("x_0",))) is None
+    True
+    """
+    core = set(curve.core_lanes)
+    idx = [i for i, k in enumerate(curve.lanes) if k in core]
+    return (idx[0], idx[-1]) if idx else None
+
+
+def feature_ends(net: Network, curve: Curve) -> tuple[str | None, str | None]:
+    """The normal lanes the curve's feature is entered from and left onto (the approach
+    lane and the exit lane; None where the curve has none).
+
+    >>> from types import SimpleNamespace as S
+    >>> lanes = {k: S(is_internal=k.startswith(":")) for k in ("a_0", ":J_0_0", "b_0")}
+    >>> feature_ends(S(lanes=lanes), S(lanes=("a_0", ":J_0_0", "b_0"), core_lanes=(":J_0_0",)))
+    ('a_0', 'b_0')
+    """
+    span = core_span(curve)
+    if span is None:
+        return None, None
+    normal = [k in net.lanes and not net.lanes[k].is_internal for k in curve.lanes]
+    before = [k for k, ok in zip(curve.lanes[:span[0]], normal, strict=False) if ok]
+    after = [k for k, ok in zip(curve.lanes[span[1] + 1:], normal[span[1] + 1:], strict=True)
+             if ok]
+    return (before[-1] if before else None), (after[0] if after else None)
+
+
 def place_of(net: Network, curve: Curve, station_m: float) -> Place | None:
     """The place of ``station_m`` (m along ``curve.centerline``); None for NaN.
 
@@ -83,9 +117,7 @@ def place_of(net: Network, curve: Curve, station_m: float) -> Place | None:
     """
     if not math.isfinite(station_m):
         return None
-    core = set(curve.core_lanes)
-    idx = [i for i, k in enumerate(curve.lanes) if k in core] or [0]
-    first, last = idx[0], idx[-1]
+    first, last = core_span(curve) or (0, 0)
     feature = f"{_FEATURE.get(curve.kind, 'at')} {curve.junction}"
     if curve.kind == "bend":  # a bend is its lane's, not a junction's
         feature = f"in the bend of {_element(net, curve.lanes[first])}"

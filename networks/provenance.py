@@ -42,6 +42,7 @@ import numpy as np
 
 from clearance.networks.curves import Curve
 from clearance.networks.model import ROAD_VCLASSES, Junction, Lane, Network
+from clearance.networks.places import core_span, feature_ends
 from clearance.networks.safe_xml import open_binary
 
 __all__ = ["CORNER_COMPUTED", "CORNER_FITTED", "CORNER_TURN_DEG", "DEFAULT_CORNER_RADIUS_M",
@@ -218,14 +219,11 @@ def feature_edges(net: Network, curve: Curve) -> list[str]:
     >>> feature_edges(net, c) == [net.lanes[c.lanes[0]].edge, net.lanes[c.lanes[-1]].edge]
     True
     """
-    core = set(curve.core_lanes)
-    idx = [i for i, k in enumerate(curve.lanes) if k in core]
-    first, last = (idx[0], idx[-1]) if idx else (0, len(curve.lanes) - 1)
+    first, last = core_span(curve) or (0, len(curve.lanes) - 1)
     picked = [k for k in curve.lanes[first:last + 1] if not _internal(net, k)]
-    before = [k for k in curve.lanes[:first] if not _internal(net, k)][-1:]
-    after = [k for k in curve.lanes[last + 1:] if not _internal(net, k)][:1]
-    edges = [net.lanes[k].edge for k in (*before, *picked, *after)]
-    return list(dict.fromkeys(edges))
+    before, after = feature_ends(net, curve)
+    lanes = [*([before] if before else []), *picked, *([after] if after else [])]
+    return list(dict.fromkeys(net.lanes[k].edge for k in lanes))
 
 
 def _internal(net: Network, lane_id: str) -> bool:
@@ -296,11 +294,9 @@ def lane_offset_m(net: Network, curve: Curve) -> float:
     >>> lane_offset_m(S(lanes=lanes), c)
     1.5
     """
-    core = set(curve.core_lanes)
-    idx = [i for i, k in enumerate(curve.lanes) if k in core]
-    if not idx or idx[0] == 0 or idx[-1] + 1 >= len(curve.lanes):
-        return 0.0
-    a, b = net.lanes.get(curve.lanes[idx[0] - 1]), net.lanes.get(curve.lanes[idx[-1] + 1])
+    before, after = feature_ends(net, curve)
+    a = net.lanes.get(before) if before else None
+    b = net.lanes.get(after) if after else None
     if a is None or b is None or len(a.shape) < 2 or not len(b.shape):
         return 0.0
     p, q = a.shape[-2, :2], a.shape[-1, :2]

@@ -45,6 +45,7 @@ from xml.sax.saxutils import quoteattr
 from clearance.analysis.design_turn import design_turn_inside_radius
 from clearance.networks.curves import Curve
 from clearance.networks.model import ROAD_VCLASSES, Network
+from clearance.networks.places import feature_ends, place_of
 from clearance.networks.provenance import (
     CORNER_TURN_DEG,
     BuildHeader,
@@ -122,18 +123,6 @@ def inside_radii_m(table: VehicleTable) -> dict[str, float]:
     return dict(zip(table.names, out["inside_radius_m"].astype(float), strict=True))
 
 
-def _ends(net: Network, curve: Curve) -> tuple[str, str] | None:
-    """The normal lanes a curve's feature is entered from and left onto."""
-    core = set(curve.core_lanes)
-    idx = [i for i, k in enumerate(curve.lanes) if k in core]
-    if not idx:
-        return None
-    before = [k for k in curve.lanes[:idx[0]] if k in net.lanes and not net.lanes[k].is_internal]
-    after = [k for k in curve.lanes[idx[-1] + 1:]
-             if k in net.lanes and not net.lanes[k].is_internal]
-    return (before[-1], after[0]) if before and after else None
-
-
 #: A corner's radius takes at most this share of the shortest road edge meeting there: a
 #: larger junction would swallow that edge and move its neighbours' turns.
 MAX_EDGE_SHARE = 0.4
@@ -180,8 +169,9 @@ def _fit_widths(fit: Fit, net: Network, curve: Curve, rec: RunRecord, v: Vehicle
                 header: BuildHeader, why: str) -> None:
     core = set(curve.core_lanes)
     swept = rec.swept_width_m if math.isfinite(rec.swept_width_m) else v.width_m
-    conflict_lane = rec.conflict_at.split(" ")[1] if rec.conflict_at.startswith(
-        ("approach ", "exit ")) else ""
+    place = place_of(net, curve, rec.overreach_station_m)
+    conflict_edge = (net.lanes[place.lane].edge if place is not None
+                     and place.part != "feature" and place.lane in net.lanes else "")
     for e in feature_edges(net, curve):
         for lane_id in net.edges[e].lanes:
             lane = net.lanes.get(lane_id)
@@ -193,7 +183,7 @@ def _fit_widths(fit: Fit, net: Network, curve: Curve, rec: RunRecord, v: Vehicle
             else:
                 need = v.width_m + 2 * LANE_MARGIN_M
                 if math.isfinite(rec.extra_width_m):  # the pavement's shortfall, and a margin
-                    more = rec.extra_width_m + (LANE_MARGIN_M if e == conflict_lane else 0.0)
+                    more = rec.extra_width_m + (LANE_MARGIN_M if e == conflict_edge else 0.0)
                     need = max(need, lane.width_m + more)
                 need = min(need, MAX_LANE_WIDTH_M)
             need = _up(need, 0.1)
@@ -202,10 +192,9 @@ def _fit_widths(fit: Fit, net: Network, curve: Curve, rec: RunRecord, v: Vehicle
 
 
 def _restrict(fit: Fit, net: Network, curve: Curve, vclass: str, why: str) -> None:
-    ends = _ends(net, curve)
-    if ends is None:
+    a, b = feature_ends(net, curve)
+    if a is None or b is None:
         return
-    a, b = ends
     key = (edge_of_lane(a), edge_of_lane(b), lane_index(a), lane_index(b))
     via = next((k for k in curve.core_lanes if k in net.lanes), None)
     allowed = net.lanes[via].allowed if via is not None else net.lanes[a].allowed
