@@ -11,15 +11,24 @@ from typing import Any
 from clearance.networks.curves import KINDS
 from clearance.networks.routes import RouteSelection
 from clearance.networks.selection import Selection, parse_bbox
+from clearance.reports.documents.sheet_settings import (
+    PROJECT_FILE,
+    SHEET_CHOICES,
+    Project,
+    SheetSettings,
+    read_project,
+)
 from clearance.reports.study.routes import RouteStudy, run_route_study
 from clearance.vehicles.errors import OptionError
 from clearance.vehicles.table import VehicleTable
 
 __all__ = ["add_clearance_option", "add_executor_options", "add_grade_option",
            "add_lane_only_option", "add_net_option", "add_output_option",
-           "add_route_options", "add_selection_options", "add_table_option",
+           "add_route_options", "add_selection_options", "add_sheet_options",
+           "add_table_option",
            "add_units_option", "add_vehicle_option", "add_waivers_option", "announcer",
-           "route_selection_of", "route_study", "selection_of"]
+           "route_selection_of", "route_study", "selection_of",
+           "sheet_settings_of"]
 
 
 def announcer(command: str) -> Callable[[str], None]:
@@ -169,3 +178,48 @@ def route_study(args: argparse.Namespace, nets: Sequence[str | Path], table: Veh
     return run_route_study(nets[0], args.routes, table, args.additional or (),
                            route_selection_of(args), args.baseline,
                            args.baseline_tolerance, **options)
+
+
+def add_sheet_options(p: argparse.ArgumentParser) -> None:
+    """The sheets of a report (:mod:`clearance.reports.documents.sheets`): which runs get
+    one, at most how many, the ghost, and the title block's fields (a project file and
+    options, :mod:`clearance.reports.documents.sheet_settings`)."""
+    g = p.add_argument_group("sheets", "A3 swept-path sheets (sheets/NET.pdf) and their "
+                                       "title block")
+    g.add_argument("--sheets", choices=SHEET_CHOICES, default="not-clear",
+                   help="which runs get a sheet: every run that is not clear (default), "
+                        "every run, or none")
+    g.add_argument("--max-sheets", type=int, default=None, metavar="N",
+                   help="sheets per network at most, worst first (default: no limit)")
+    g.add_argument("--ghost", metavar="NAME", default=None,
+                   help="draw this vehicle faintly on the other vehicles' sheets, for "
+                        "comparison (default: the route study's --baseline)")
+    g.add_argument("--project", metavar="FILE", default=None,
+                   help=f"project file (TOML, a [project] table: name, drawing_number, "
+                        f"drawn, checked, revision, date) for the sheets' title block; "
+                        f"default: {PROJECT_FILE} in the current folder, when there is one")
+    for flag, key, what in (("--project-name", "name", "the project"),
+                            ("--drawing-number", "drawing_number",
+                             "the drawing number's prefix (sheets PREFIX-001, ...)"),
+                            ("--drawn-by", "drawn", "who drew the sheets"),
+                            ("--checked-by", "checked", "who checked them"),
+                            ("--revision", "revision", "the revision (P01, A, ...)"),
+                            ("--drawing-date", "date", "the date of the revision")):
+        g.add_argument(flag, dest=f"project_{key}", metavar="TEXT", default=None,
+                       help=f"title block: {what} (over the project file's)")
+
+
+def sheet_settings_of(args: argparse.Namespace, names: Sequence[str]) -> SheetSettings:
+    """The :class:`~clearance.reports.documents.sheet_settings.SheetSettings` of
+    :func:`add_sheet_options`' options; ``names`` the vehicles of the study (a ghost must
+    be one of them). A bad value raises :class:`~clearance.vehicles.errors.InputError`."""
+    if args.max_sheets is not None and args.max_sheets < 1:
+        raise OptionError(f"--max-sheets must be at least 1, got {args.max_sheets}")
+    if args.ghost is not None and args.ghost not in names:
+        raise OptionError(f"--ghost {args.ghost!r}: no such vehicle in the study "
+                          f"(vehicles: {', '.join(names)})")
+    path = Path(args.project) if args.project else Path(PROJECT_FILE)
+    project = read_project(path) if args.project or path.is_file() else Project()
+    fields = ("name", "drawing_number", "drawn", "checked", "revision", "date")
+    project = project.merged(**{k: getattr(args, f"project_{k}") for k in fields})
+    return SheetSettings(args.sheets, args.max_sheets, args.ghost or "", project)

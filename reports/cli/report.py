@@ -24,12 +24,14 @@ from clearance.reports.cli.options import (
     add_output_option,
     add_route_options,
     add_selection_options,
+    add_sheet_options,
     add_table_option,
     add_vehicle_option,
     add_waivers_option,
     announcer,
     route_study,
     selection_of,
+    sheet_settings_of,
 )
 from clearance.reports.documents.writer import LAYOUT, write_report
 from clearance.reports.exports.geojson import parse_origin
@@ -61,7 +63,8 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
         help="clearance report: every vehicle through every curve of every network",
         description="Every vehicle x every curve of every network: clearance.csv, "
                     "summary.json, report.html, report.md with figures, sheets/<network>.pdf "
-                    "(A3 swept-path sheets, worst runs first), and per network "
+                    "(A3 swept-path sheets: an index, then a sheet per vehicle not clear on "
+                    "a curve, worst first), and per network "
                     "under exports/: NET.add.xml (sumo-gui -n NET -a NET.add.xml), NET.dxf "
                     "(CAD) and NET.geojson (GIS). Without arguments: the bundled sample "
                     "networks and vehicle tables, output under reports/out/.",
@@ -90,6 +93,7 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
     add_selection_options(p)
     add_waivers_option(p)
     add_route_options(p)
+    add_sheet_options(p)
     p.set_defaults(run=run)
 
 
@@ -104,6 +108,7 @@ def run(args: argparse.Namespace) -> int:
         names = load_tables(tables, warn=False).names if args.vehicle else table.names
         waivers = read_waivers(Path(args.waivers), names)
     origin = parse_origin(args.origin) if args.origin else None
+    sheets = sheet_settings_of(args, table.names)
     target = Path(args.output) if args.output else DEFAULT_OUTPUT
     with output_folder(target, LAYOUT) as staging, \
             make_executor(args.workers, args.scheduler) as executor:
@@ -116,7 +121,8 @@ def run(args: argparse.Namespace) -> int:
         log.info("study: %d runs in %.1f s", len(study.records), time.perf_counter() - t0)
         waived = study_waivers(study.frame(), waivers) if waivers is not None else None
         t1 = time.perf_counter()
-        write_report(study, staging, tables, args.units, waived, origin, executor, routes)
+        write_report(study, staging, tables, args.units, waived, origin, executor, routes,
+                     sheets)
         log.info("report, figures, sheets and exports written in %.1f s",
                  time.perf_counter() - t1)
     frame = study.frame()

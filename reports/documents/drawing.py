@@ -56,10 +56,11 @@ from clearance.reports.results.units import length_scale
 from clearance.reports.study.run import NetworkCurves
 from clearance.vehicles.vehicle import Vehicle
 
-__all__ = ["BADGE", "HATCH_ALPHA", "HATCH_ZORDER", "LANE_CENTRE", "MIN_CONFLICT_M2",
+__all__ = ["BADGE", "GHOST", "HATCH_ALPHA", "HATCH_ZORDER", "LANE_CENTRE", "MIN_CONFLICT_M2",
            "OUTSIDE_LANES", "OUTSIDE_PAVEMENT", "OWN_LANES", "PATH_TAKEN", "Shown",
            "VERDICT_STYLE", "angle_text", "badge_text", "conflict_areas", "dimension",
-           "draw_bodies", "draw_conflicts", "draw_curve", "draw_run", "is_swung",
+           "draw_bodies", "draw_conflicts", "draw_curve", "draw_ghost", "draw_run",
+           "ghost_handle", "is_swung",
            "legend_handles", "length_text", "overreach", "path_words", "rerun", "run_geometry",
            "stop_point", "stop_words", "view_bounds"]
 
@@ -475,6 +476,38 @@ def draw_run(ax: Axes, curve: Curve, s: Shown, units: str, bodies: int = 7,
                     arrowprops=dict(arrowstyle="-", lw=0.6))
 
 
+#: A ghost: a second vehicle shown faintly for comparison (a route study's baseline):
+#: its colour, its envelope line's width and dashes.
+GHOST = ("#7f7f7f", 1.0, (0, (6, 2, 1, 2, 1, 2)))
+
+
+def draw_ghost(ax: Axes, curve: Curve, s: Shown) -> None:
+    """A second vehicle shown for comparison, under the vehicle of the drawing: its
+    envelope outline (grey, dash-dot-dot) and the paths of its outer front and inner rear
+    wheels (thin grey); no bodies, no hatches, no dimensions. A run not driven again shows
+    its recorded envelope alone."""
+    colour, lw, ls = GHOST
+    res = None if s.driven is None else s.driven.result
+    env = res.swept.envelope if res is not None else s.record.envelope
+    if env is not None and not env.is_empty:
+        _outline(ax, env, color=colour, ls=ls, lw=lw, zorder=6, gid="ghost-envelope")
+    if res is None:
+        return
+    for name in _wheel_names(curve, res.run)[:2]:
+        track = res.swept.wheel_tracks.get(name)
+        if track is not None:
+            xy = np.asarray(track.coords)
+            ax.plot(xy[:, 0], xy[:, 1], color=colour, lw=0.5, ls="-", zorder=6)
+
+
+def ghost_handle(s: Shown, units: str) -> Line2D:
+    """The legend's line of a ghost (:func:`draw_ghost`): whose, and its verdict."""
+    colour, lw, ls = GHOST
+    return Line2D([], [], color=colour, ls=ls, lw=lw,
+                  label=f"{s.record.vehicle} for comparison: envelope, {s.record.verdict} "
+                        f"({length_text(s.record.margin_m, units)})")
+
+
 def _dimensions(ax: Axes, curve: Curve, s: Shown, units: str) -> None:
     res = None if s.driven is None else s.driven.result
     if res is None:  # draw_run dimensions only a run driven again
@@ -532,15 +565,18 @@ def badge_text(rec: RunRecord, units: str) -> str:
 
 def draw_curve(ax: Axes, nc: NetworkCurves, curve: Curve, shown: Sequence[Shown],
                units: str = "m", bounds: tuple[float, float, float, float] | None = None,
-               bodies: int = 7, badges: bool = True) -> list:
+               bodies: int = 7, badges: bool = True, ghost: Shown | None = None) -> list:
     """The base plan, the curve's own lanes and every shown run; returns the legend handles.
 
-    The axes get ticks in ``units``, a scale bar and a north arrow.
+    The axes get ticks in ``units``, a scale bar and a north arrow; ``ghost``, a second
+    vehicle for comparison, is drawn faintly under the others (:func:`draw_ghost`).
     """
     bounds = bounds or view_bounds(curve, shown)
     plot_plan(nc.network, ax, None, bounds, decorate=False)
     if curve.own_lanes is not None:
         _outline(ax, curve.own_lanes, color=OWN_LANES, lw=0.9, ls=(0, (4, 2)), zorder=5)
+    if ghost is not None:
+        draw_ghost(ax, curve, ghost)
     order = {"error": -1, "cannot-turn": 0, "fails": 1, "encroaches": 2, "clear": 3}
     shown = sorted(shown, key=lambda s: (order.get(s.record.verdict, 9),
                                          s.record.margin_m if math.isfinite(s.record.margin_m)
@@ -567,8 +603,11 @@ def draw_curve(ax: Axes, nc: NetworkCurves, curve: Curve, shown: Sequence[Shown]
                     fontweight="bold", color="white", zorder=22,
                     bbox=dict(boxstyle="round,pad=0.3", fc=BADGE.get(s.record.verdict, "k"),
                               ec=s.colour, lw=2.0))
-    return legend_handles(shown, units, any(s.run is not None and s.run.vehicle.trailer
-                                            for s in shown))
+    handles = legend_handles(shown, units, any(s.run is not None and s.run.vehicle.trailer
+                                               for s in shown))
+    if ghost is not None:
+        handles.insert(len(shown), ghost_handle(ghost, units))
+    return handles
 
 
 def legend_handles(shown: Sequence[Shown], units: str, trailer: bool) -> list:

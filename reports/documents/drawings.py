@@ -26,6 +26,7 @@ from clearance.reports.documents.figures import (
 )
 from clearance.reports.documents.html_images import COMPACT_MADE, compact_key, compact_png
 from clearance.reports.documents.report import Section
+from clearance.reports.documents.sheet_settings import DEFAULT_SHEETS, SheetSettings
 from clearance.reports.exports.study import (
     DRAWN_RUNS,
     drawn_geometry,
@@ -71,6 +72,7 @@ class NetworkTask:
     units: str = "m"
     names: tuple[tuple[str, str], ...] = ()
     origin: tuple[float, float] | None = None
+    sheets: SheetSettings = DEFAULT_SHEETS
 
     def local(self, shared: SharedFile) -> Study:
         """The task's study in this process: its records, its network and curves (with
@@ -95,13 +97,13 @@ def network_exports(task: NetworkTask, shared: SharedFile) -> dict[str, bytes]:
 
 def network_sheets_pdf(task: NetworkTask, shared: SharedFile) -> dict[str, bytes]:
     """One network's sheets (:func:`clearance.reports.documents.sheets.write_sheets`), as files
-    relative to
-    the report."""
+    relative to the report."""
     from clearance.reports.documents.sheets import write_sheets
 
     study = task.local(shared)
     return scratch_files(lambda root: write_sheets(study, root / "sheets",
-                                                   [Path(t) for t in task.tables], task.units))
+                                                   [Path(t) for t in task.tables], task.units,
+                                                   task.sheets))
 
 
 #: The name under which a task's files carry the compact copy of a PNG for the HTML
@@ -258,11 +260,12 @@ def _lost_words(what: str, reason: str) -> str:
 
 
 def network_tasks(study: Study, tables: list[Path], units: str,
-                   origin: tuple[float, float] | None) -> list[tuple[Drawing, Path]]:
+                  origin: tuple[float, float] | None,
+                  sheets_asked: SheetSettings = DEFAULT_SHEETS) -> list[tuple[Drawing, Path]]:
     """The sheets and exports drawing of every network, with the network's file: each
     with the network's records and the curves it draws (those of
     :func:`clearance.reports.documents.sheets.pick_sheets` and of :func:`drawn_geometry`)."""
-    from clearance.reports.documents.sheets import MAX_SHEETS, pick_sheets
+    from clearance.reports.documents.sheets import pick_sheets
 
     frame = study.frame()
     head = Study([], [], study.table, study.method, study.clearance_m)
@@ -270,10 +273,13 @@ def network_tasks(study: Study, tables: list[Path], units: str,
     for nc in study.networks:
         records = tuple(r for r in study.records if r.network == nc.name)
         by_id = {c.curve_id: c for c in nc.curves}
-        # the sheets' runs pick themselves again from themselves (the worst of each curve
-        # first, then the rest worst first), so they are all the sheets task is sent
-        sheeted = tuple(pick_sheets(records, MAX_SHEETS))
-        sheet_ids = dict.fromkeys(r.curve_id for r in sheeted)
+        # the sheets' runs pick themselves again from themselves, so they (and the ghost's
+        # runs on their curves) are all the sheets task is sent
+        picked = pick_sheets(records, sheets_asked.which, sheets_asked.limit)
+        sheet_ids = dict.fromkeys(r.curve_id for r in picked)
+        ghosts = [r for r in records if sheets_asked.ghost and r.curve_id in sheet_ids
+                  and r.vehicle == sheets_asked.ghost and all(r is not p for p in picked)]
+        sheeted = tuple(picked + ghosts)
         f = frame[(frame.network == nc.name) & (frame.verdict != "error")]
         drawn = (worst_by_curve(f).head(DRAWN_RUNS) if study.method == "simulate"
                  and not f.empty else f.iloc[:0])
@@ -285,13 +291,14 @@ def network_tasks(study: Study, tables: list[Path], units: str,
                          else replace(r, line=None) for r in records)
         names = tuple(export_names(nc.name, georeferenced(nc, origin)).items())
         base = NetworkTask(nc.name, str(nc.path), (), records, head, tuple(map(str, tables)),
-                           units, names, origin)
+                           units, names, origin, sheets_asked)
         sheets = NetworkTask(**{**base.__dict__, "records": sheeted,
                                 "curves": tuple(bare(by_id[c]) for c in sheet_ids)})
         exports = NetworkTask(**{**base.__dict__, "records": exported,
                                  "curves": tuple(bare(by_id[c]) for c in drawn_ids)})
-        out.append((Drawing(network_sheets_pdf, sheets, nc.name, "sheets",
-                            f"sheets (sheets/{file_name([nc.name], '.pdf')})"), nc.path))
+        if picked:
+            out.append((Drawing(network_sheets_pdf, sheets, nc.name, "sheets",
+                                f"sheets (sheets/{file_name([nc.name], '.pdf')})"), nc.path))
         out.append((Drawing(network_exports, exports, nc.name, "exports", "exports ("
                             + ", ".join(f"exports/{n}" for _, n in names) + ")"), nc.path))
     return out

@@ -1,26 +1,32 @@
-"""Printable swept-path sheets: one PDF per network, one sheet per vehicle and curve.
+"""Printable swept-path sheets: one PDF per network, a sheet per vehicle and curve.
 
-Each sheet is A3 landscape (420 x 297 mm) at a stated scale: the first of
-:data:`SCALES` (1:200, 1:250, 1:500, then 1:1000 for a large ramp or roundabout) at which
-the curve's feature and the vehicle's envelope fit the drawing frame (:func:`fit_scale`).
-Beside the drawing (:func:`clearance.reports.documents.drawing.draw_curve`, one vehicle) stand a
-title block (network, curve, junction, date, tool version, input hashes), a vehicle data block
-(dimensions, lock, CTR, steering speed, source), a verdict block and the legend.
+Each sheet is A3 landscape (420 x 297 mm) at a stated scale: the first of :data:`SCALES`
+(1:100, 1:200, 1:250, 1:500, then 1:1000 for a large ramp or roundabout) at which the
+manoeuvre (the curve's feature and the swept path near it, :func:`manoeuvre_box`) fits the
+drawing frame (:func:`fit_scale`). Beside the drawing
+(:func:`clearance.reports.documents.drawing.draw_curve`, one vehicle) stand a block of what
+the sheet shows (network, curve, tool version, input hashes), the verdict, the vehicle's
+data, and at the foot the title block a firm signs
+(:func:`clearance.reports.documents.sheet_blocks.title_block`, its fields from
+:class:`clearance.reports.documents.sheet_settings.Project`); under the drawing, the legend.
 
-One vehicle a sheet keeps the drawing legible (bodies at intervals, wheel paths and
-dimensions of one vehicle) and gives the vehicle block one vehicle to describe. A network
-gets at most :data:`MAX_SHEETS` sheets, worst first (:func:`pick_sheets`): the worst run of
-each curve in the order of the curves' worst runs, then the next runs of those curves.
-``clearance report`` writes them as ``sheets/<network>.pdf``.
+Which runs get a sheet (:func:`pick_sheets`, ``--sheets``): by default every vehicle that
+is not clear on a curve, each its own sheet, so that the design vehicle a designer must
+show gets one beside a larger vehicle that fails worse; ``all`` every run, ``none`` none.
+A second vehicle may stand on each sheet as a grey ghost for comparison (a route study's
+baseline, :attr:`SheetSettings.ghost`). A run that passes over itself (a helix) gets a
+sheet per storey (:mod:`clearance.reports.documents.storeys`). The PDF opens with an index
+of its sheets (:func:`index_pages`). ``clearance report`` writes it as
+``sheets/<network>.pdf``.
 """
 
 from __future__ import annotations
 
 import datetime as dt
 import io
-import math
 import textwrap
 from collections.abc import Sequence
+from dataclasses import dataclass
 from pathlib import Path
 
 import matplotlib.pyplot as plt
@@ -30,47 +36,56 @@ from matplotlib.backends.backend_pdf import PdfPages
 from matplotlib.figure import Figure
 from matplotlib.patches import Rectangle
 
-from clearance.analysis.turning import centre_line_radius
 from clearance.networks.curves import Curve
 from clearance.networks.geometry import cut_polyline
 from clearance.reports.documents.drawing import (
     BADGE,
+    GHOST,
     Shown,
     angle_text,
     draw_curve,
     length_text,
-    path_words,
-    rerun,
-    stop_words,
 )
-from clearance.reports.documents.plotting import STYLE, vehicle_colours
+from clearance.reports.documents.figures import shown_runs
+from clearance.reports.documents.plotting import STYLE
+from clearance.reports.documents.sheet_blocks import (
+    LINE_MM,
+    MM,
+    PAPER_MM,
+    block,
+    block_height,
+    title_block,
+    vehicle_rows,
+    verdict_rows,
+)
+from clearance.reports.documents.sheet_settings import DEFAULT_SHEETS, Project, SheetSettings
+from clearance.reports.documents.storeys import storey_heights, storey_shown, storey_stretches
 from clearance.reports.output.atomic import write_bytes_atomic
 from clearance.reports.output.file_names import file_name
 from clearance.reports.results.records import VERDICT_ORDER, RunRecord
 from clearance.reports.results.tables import _version, sha256_of
-from clearance.reports.results.units import text_in_units
 from clearance.reports.study.run import NetworkCurves, Study
-from clearance.vehicles.vehicle import Vehicle
 
-__all__ = ["BLOCKS_MM", "FRAME_MM", "MAX_SHEETS", "MM", "PAPER_MM", "SCALES", "fit_scale",
-           "network_sheets", "pick_sheets", "sheet_view", "title_rows", "vehicle_rows",
-           "verdict_rows", "write_sheets"]
+__all__ = ["BLOCKS_MM", "FRAME_MM", "INDEX_ROWS_MM", "LEGEND_MM", "MANOEUVRE_REACH_M",
+           "SCALES", "SheetPage", "fit_scale", "index_pages", "manoeuvre_box",
+           "network_sheets", "pick_sheets", "sheet_pages", "sheet_view", "title_rows",
+           "write_sheets"]
 
 #: Drawing scales tried in order (1:N); the first at which the drawing fits is used.
 SCALES = (100, 200, 250, 500, 1000)
 #: A sheet shows the swept path this far (m) around the feature: the manoeuvre, not the
 #: lead-in and run-out (a bus length either side of the junction).
 MANOEUVRE_REACH_M = 12.0
-#: Paper: A3 landscape, millimetres.
-PAPER_MM = (420.0, 297.0)
-#: Sheets per network at most (worst first).
-MAX_SHEETS = 12
-MM = 1 / 25.4
 #: The drawing frame on the sheet (x, y, width, height, mm from the lower-left corner):
-#: the axes of the plan, inside the border, left of the blocks.
-FRAME_MM = (22.0, 18.0, 272.0, 267.0)
-#: The column of blocks at the right (x, width, mm).
+#: the axes of the plan, inside the border, left of the blocks, above the legend.
+FRAME_MM = (22.0, 52.0, 272.0, 233.0)
+#: The legend's strip under the drawing (x, top, width, mm).
+LEGEND_MM = (22.0, 40.0, 272.0)
+#: The column of blocks at the right (x, width, mm), and the foot of its title block (mm).
 BLOCKS_MM = (304.0, 106.0)
+BLOCKS_FOOT_MM = 8.0
+#: The index's table on its sheet (top, foot, mm).
+INDEX_ROWS_MM = (272.0, 12.0)
 
 
 def fit_scale(width_m: float, height_m: float, frame_mm: tuple[float, float] = FRAME_MM[2:],
@@ -80,7 +95,7 @@ def fit_scale(width_m: float, height_m: float, frame_mm: tuple[float, float] = F
 
     Examples
     --------
-    >>> fit_scale(50.0, 40.0)        # 50 m at 1:200 is 250 mm: fits 272 x 267 mm
+    >>> fit_scale(50.0, 40.0)        # 50 m at 1:200 is 250 mm: fits 272 x 233 mm
     200
     >>> fit_scale(60.0, 40.0)        # 300 mm at 1:200, 240 mm at 1:250
     250
@@ -95,115 +110,39 @@ def fit_scale(width_m: float, height_m: float, frame_mm: tuple[float, float] = F
     return scales[-1]
 
 
-def pick_sheets(records: Sequence[RunRecord], limit: int = MAX_SHEETS) -> list[RunRecord]:
-    """The runs of one network that get a sheet, worst first, at most ``limit``.
+def pick_sheets(records: Sequence[RunRecord], which: str = "not-clear",
+                limit: int | None = None) -> list[RunRecord]:
+    """The runs of one network that get a sheet, at most ``limit``, grouped by curve: the
+    curves in the order of their worst runs, each curve's runs worst first.
 
-    The worst run of every curve comes first (curves in the order of their worst runs),
-    then the other runs worst first; ``error`` runs (nothing to draw) get none.
+    ``which``: ``not-clear`` every run that is not clear, ``all`` every run, ``none`` none;
+    ``error`` runs (nothing to draw) get none. A subset of ``records`` holding the runs
+    picked picks them again, in the same order.
 
     Examples
     --------
     >>> from types import SimpleNamespace as R
     >>> rs = [R(curve_id=c, vehicle=v, verdict=x, margin_m=m) for c, v, x, m in
     ...       [("a", "P", "clear", 0.5), ("a", "T", "fails", -1.0), ("b", "P", "encroaches",
-    ...        -0.1), ("b", "T", "fails", -0.5), ("c", "P", "error", math.nan)]]
+    ...        -0.1), ("b", "T", "fails", -0.5), ("c", "P", "error", float("nan"))]]
     >>> [(r.curve_id, r.vehicle) for r in pick_sheets(rs)]
-    [('a', 'T'), ('b', 'T'), ('b', 'P'), ('a', 'P')]
-    >>> [(r.curve_id, r.vehicle) for r in pick_sheets(rs, 1)]
-    [('a', 'T')]
+    [('a', 'T'), ('b', 'T'), ('b', 'P')]
+    >>> [(r.curve_id, r.vehicle) for r in pick_sheets(rs, "all")]
+    [('a', 'T'), ('a', 'P'), ('b', 'T'), ('b', 'P')]
+    >>> [(r.curve_id, r.vehicle) for r in pick_sheets(rs, "all", 1)], pick_sheets(rs, "none")
+    ([('a', 'T')], [])
     """
-    runs = [r for r in records if r.verdict != "error"]
-    runs.sort(key=lambda r: (VERDICT_ORDER[r.verdict], r.margin_m, r.curve_id, r.vehicle))
-    firsts, seen = [], set()
+    if which == "none":
+        return []
+    runs = [r for r in records if r.verdict != "error"
+            and (which == "all" or r.verdict != "clear")]
+    key = {id(r): (VERDICT_ORDER[r.verdict], r.margin_m, r.vehicle) for r in runs}
+    worst: dict[str, tuple] = {}
     for r in runs:
-        if r.curve_id not in seen:
-            seen.add(r.curve_id)
-            firsts.append(r)
-    rest = [r for r in runs if all(r is not f for f in firsts)]
-    return (firsts + rest)[:limit]
-
-
-def vehicle_rows(v: Vehicle, units: str) -> list[tuple[str, str]]:
-    """The vehicle data block: dimensions, lock, CTR, steering speed, trailer, source."""
-    L = lambda x: length_text(x, units)  # noqa: E731
-    ctr = float(centre_line_radius(v.min_radius_m, v.wheelbase_m))
-    rows = [("vehicle", v.name), ("category", v.category or "-"),
-            ("overall length", L(v.overall_length_m)), ("width", L(v.width_m)),
-            ("wheelbase", L(v.wheelbase_m)), ("front / rear overhang",
-                                              f"{L(v.front_overhang_m)} / {L(v.rear_overhang_m)}"),
-            ("track (steered axle)", L(v.track_m)), ("steered axle", v.steered_axle),
-            ("lock (inner wheel)", f"{math.degrees(v.max_inner_steer_rad):.1f}°"),
-            ("lock (bicycle angle)", f"{math.degrees(v.max_steer_rad):.1f}°"),
-            ("CTR at full lock", L(ctr)),
-            ("steering speed", f"{math.degrees(v.max_steer_rate_rad_s):.1f}°/s (road wheel)")]
-    t = v.trailer
-    if t is not None:
-        rows += [("trailer: kingpin behind axle", L(t.hitch_offset_m)),
-                 ("trailer wheelbase", L(t.wheelbase_m)), ("trailer width", L(t.width_m)),
-                 ("trailer front / rear overhang",
-                  f"{L(t.front_overhang_m)} / {L(t.rear_overhang_m)}"),
-                 ("max articulation", f"{math.degrees(t.max_articulation_rad):.0f}°")]
-    rows.append(("source", v.source or "-"))
-    return rows
-
-
-def verdict_rows(s: Shown, units: str) -> list[tuple[str, str]]:
-    """The verdict block's rows (the badge is drawn above them)."""
-    r = s.record
-    L = lambda x: length_text(x, units)  # noqa: E731
-    rows = [("margin to its own lanes", L(r.margin_m)),
-            ("margin to the pavement", L(r.paved_margin_m)),
-            ("largest swept width", L(r.swept_width_m)),
-            ("lane width (narrowest)", L(r.available_width_m)),
-            ("largest offtracking", L(r.max_offtracking_m)),
-            *([("largest trailer offtracking", L(r.trailer_offtracking_m))]
-              if math.isfinite(getattr(r, "trailer_offtracking_m", math.nan)) else []),
-            ("largest tracking error", L(r.max_tracking_error_m)),
-            ("clearance offset", L(r.clearance_m)), ("method", r.method)]
-    rows.append(("path", path_words(s, units).split(": ", 1)[1]))
-    run = s.run
-    why = (stop_words(run, units) if run is not None and run.reason
-           else text_in_units(r.reason, units))
-    rows.append(("why", why or "-"))
-    extra = getattr(r, "extra_width_m", math.nan)
-    if math.isfinite(extra):
-        beyond = "the pavement" if r.verdict == "fails" else "its own lanes"
-        rows.append(("worst overreach", f"station {L(r.overreach_station_m)} (x "
-                     f"{r.overreach_x:.2f}, y {r.overreach_y:.2f}): {beyond} needs {L(extra)} "
-                     "more width there"))
-    served = getattr(r, "serves_up_to", "")
-    rows.append(("curve serves up to", f"{served or 'no vehicle of the study'} (clear), "
-                 f"{getattr(r, 'serves_encroaching_up_to', '') or 'none'} (stays paved)"))
-    return rows
-
-
-def _block(fig: Figure, x: float, top: float, w: float, title: str,
-           rows: Sequence[tuple[str, str]], wrap: int = 44, max_lines: int = 4) -> float:
-    """A ruled block of ``rows`` (label, value) under ``title``, top edge at ``top`` (mm);
-    returns the bottom edge (mm). Long values wrap at ``wrap`` characters."""
-    W, H = PAPER_MM
-    line = 3.3
-    lines: list[tuple[str, str]] = []
-    for label, value in rows:
-        parts = textwrap.wrap(str(value), wrap) or ["-"]
-        if len(parts) > max_lines:
-            parts = parts[:max_lines]
-            parts[-1] = parts[-1][: wrap - 1] + "…"
-        lines += [(label, parts[0])] + [("", p) for p in parts[1:]]
-    h = 6.0 + line * len(lines) + 1.5
-    y0 = top - h
-    fig.add_artist(Rectangle((x / W, y0 / H), w / W, h / H,
-                             transform=fig.transFigure, fc="white", ec="black", lw=0.8))
-    fig.add_artist(Rectangle((x / W, (top - 5.5) / H), w / W, 5.5 / H,
-                             transform=fig.transFigure, fc="#e8e8e8", ec="black", lw=0.8))
-    fig.text((x + 2) / W, (top - 2.75) / H, title, fontsize=7.5, fontweight="bold",
-             va="center")
-    y = top - 5.5 - line * 0.8
-    for label, value in lines:
-        fig.text((x + 2) / W, y / H, label, fontsize=6.2, va="center", color="#333333")
-        fig.text((x + 42) / W, y / H, value, fontsize=6.2, va="center")
-        y -= line
-    return y0
+        k = (*key[id(r)][:2], r.curve_id)
+        worst[r.curve_id] = min(worst.get(r.curve_id, k), k)
+    runs.sort(key=lambda r: (worst[r.curve_id], key[id(r)]))
+    return runs if limit is None else runs[:limit]
 
 
 def manoeuvre_box(curve: Curve, s: Shown, reach_m: float = MANOEUVRE_REACH_M
@@ -254,43 +193,99 @@ def sheet_view(curve: Curve, s: Shown) -> tuple[tuple[float, float, float, float
     return (cx - half_w, cx + half_w, cy - half_h, cy + half_h), n
 
 
-def _sheet(nc: NetworkCurves, s: Shown, units: str, title_rows: list[tuple[str, str]],
-           number: int, total: int, vehicles: dict[str, Vehicle]) -> Figure:
+@dataclass
+class SheetPage:
+    """One swept-path sheet: the run shown, the ghost beside it (or None), its number, and
+    on a run drawn one storey per view (:mod:`~clearance.reports.documents.storeys`) which
+    storey: ``(k, count, z_lo_m, z_hi_m)``."""
+
+    shown: Shown
+    curve: Curve
+    ghost: Shown | None = None
+    number: int = 0
+    storey: tuple[int, int, float, float] | None = None
+    scale: int = 0
+
+    def title(self) -> str:
+        """The drawing's title in the title block.
+
+        >>> from types import SimpleNamespace as S
+        >>> page = SheetPage(Shown(S(vehicle="CITY-BUS"), "k"), S(kind="ramp", junction="H0",
+        ...                  turn_angle_deg=1080.0), storey=(2, 3, 3.2, 6.4))
+        >>> page.title()
+        'Swept path: CITY-BUS, ramp at junction H0 (+1080°), storey 2 of 3 (3.2 to 6.4 m)'
+        """
+        c = self.curve
+        where = f"{c.kind} at junction {c.junction}" if c.junction else c.kind
+        text = (f"Swept path: {self.shown.record.vehicle}, {where} "
+                f"({angle_text(c.turn_angle_deg)})")
+        if self.storey is not None:
+            k, count, lo, hi = self.storey
+            text += f", storey {k} of {count} ({lo:.1f} to {hi:.1f} m)"
+        return text
+
+
+def _column(fig: Figure, page: SheetPage, nc: NetworkCurves, units: str,
+            head: list[tuple[str, str]], total: int, project: Project,
+            vehicles: dict) -> None:
+    """The column of blocks right of the drawing: what the sheet shows, the verdict, the
+    vehicle, and at its foot the title block. Blocks that would reach into the title block
+    are set smaller (never cut short)."""
+    W, H = PAPER_MM
+    bx, bw = BLOCKS_MM
+    s, r, curve = page.shown, page.shown.record, page.curve
+    number = project.sheet_number(page.number)
+    title = page.title()
+    foot = title_block(fig, bx, BLOCKS_FOOT_MM, bw, project, title, number,
+                       f"1:{page.scale} on A3", f"{page.number} of {total}")
+    rows = [("network", nc.name), ("curve", curve.curve_id), ("kind", curve.kind),
+            ("junction", curve.junction or "-"),
+            ("units", "feet" if units == "ft" else "metres")] + head
+    vehicle = s.driven.vehicle if s.driven is not None else vehicles.get(r.vehicle)
+    blocks = [("SWEPT-PATH SHEET", rows),
+              ("VERDICT", verdict_rows(s, units, page.ghost)),
+              *([("VEHICLE", vehicle_rows(vehicle, units))] if vehicle is not None else [])]
+    badge_h, gap = 9.0, 3.0
+    room = (H - 10.0) - foot - gap
+    need = sum(block_height(rows_) for _, rows_ in blocks) + badge_h + gap * len(blocks)
+    k = min(1.0, room / need)
+    top = H - 10.0
+    for title_, rows_ in blocks:
+        if title_ == "VERDICT":
+            fig.add_artist(Rectangle((bx / W, (top - badge_h * k) / H), bw / W,
+                                     badge_h * k / H, transform=fig.transFigure,
+                                     fc=BADGE.get(r.verdict, "black"), ec="black", lw=0.8))
+            fig.text((bx + bw / 2) / W, (top - badge_h * k / 2) / H,
+                     f"VERDICT: {r.verdict.upper()}", fontsize=11 * k, fontweight="bold",
+                     color="white", ha="center", va="center")
+            top -= badge_h * k
+        top = block(fig, bx, top, bw, title_, rows_, scale=k) - gap * k
+
+
+def _sheet(nc: NetworkCurves, page: SheetPage, units: str, head: list[tuple[str, str]],
+           total: int, project: Project, vehicles: dict) -> Figure:
     W, H = PAPER_MM
     with plt.rc_context(STYLE):
         fig = plt.figure(figsize=(W * MM, H * MM))
     fig.add_artist(Rectangle((5 / W, 5 / H), (W - 10) / W, (H - 10) / H,
                              transform=fig.transFigure, fc="none", ec="black", lw=1.2))
-    curve = {c.curve_id: c for c in nc.curves}[s.record.curve_id]
+    s, curve = page.shown, page.curve
     fx, fy, fw, fh = FRAME_MM
-    bounds, n = sheet_view(curve, s)
+    bounds, page.scale = sheet_view(curve, s)
     ax = fig.add_axes((fx / W, fy / H, fw / W, fh / H))
-    handles = draw_curve(ax, nc, curve, [s], units, bounds, bodies=9, badges=False)
+    handles = draw_curve(ax, nc, curve, [s], units, bounds, bodies=9, badges=False,
+                         ghost=page.ghost)
+    storey = "" if page.storey is None else (f"   storey {page.storey[0]} of "
+                                              f"{page.storey[1]}")
     ax.set_title(f"{s.record.vehicle} on {curve.curve_id}  ({curve.kind}, "
-                 f"{angle_text(curve.turn_angle_deg)})   scale 1:{n} on A3", fontsize=9,
-                 loc="left")
-    bx, bw = BLOCKS_MM
-    top = H - 10.0
-    rows = [("network", nc.name), ("curve", curve.curve_id), ("kind", curve.kind),
-            ("junction", curve.junction or "-"), ("scale", f"1:{n} (A3 landscape)"),
-            ("units", "feet" if units == "ft" else "metres")] + title_rows + [
-            ("sheet", f"{number} of {total}")]
-    top = _block(fig, bx, top, bw, "SWEPT-PATH SHEET", rows) - 3.0
-    r = s.record
-    badge_h = 9.0
-    fig.add_artist(Rectangle((bx / W, (top - badge_h) / H), bw / W, badge_h / H,
-                             transform=fig.transFigure, fc=BADGE.get(r.verdict, "black"),
-                             ec="black", lw=0.8))
-    fig.text((bx + bw / 2) / W, (top - badge_h / 2) / H, f"VERDICT: {r.verdict.upper()}",
-             fontsize=11, fontweight="bold", color="white", ha="center", va="center")
-    top = _block(fig, bx, top - badge_h, bw, "VERDICT", verdict_rows(s, units)) - 3.0
-    vehicle = s.driven.vehicle if s.driven is not None else vehicles.get(r.vehicle)
-    if vehicle is not None:
-        top = _block(fig, bx, top, bw, "VEHICLE", vehicle_rows(vehicle, units),
-                     max_lines=3) - 3.0
-    legend = fig.legend(handles=handles, loc="upper left", fontsize=5.8, ncol=2,
-                        bbox_to_anchor=(bx / W, top / H), frameon=True, handlelength=3.0,
-                        title="LEGEND", title_fontsize=7, borderaxespad=0.0)
+                 f"{angle_text(curve.turn_angle_deg)}){storey}   scale 1:{page.scale} on A3",
+                 fontsize=9, loc="left", wrap=True)
+    _column(fig, page, nc, units, head, total, project, vehicles)
+    lx, ltop, lw = LEGEND_MM
+    legend = fig.legend(handles=handles, loc="upper left", fontsize=5.8, ncol=4,
+                        bbox_to_anchor=(lx / W, ltop / H, lw / W, 0), frameon=True,
+                        handlelength=3.0, title="LEGEND", title_fontsize=7,
+                        borderaxespad=0.0, mode="expand")
     legend.get_frame().set_edgecolor("black")
     legend.get_frame().set_linewidth(0.8)
     return fig
@@ -299,7 +294,7 @@ def _sheet(nc: NetworkCurves, s: Shown, units: str, title_rows: list[tuple[str, 
 def title_rows(nc: NetworkCurves, tables: Sequence[Path], date: str | None = None
                ) -> list[tuple[str, str]]:
     """Date, tool version and input hashes of a network's sheets."""
-    rows = [("date", date or dt.datetime.now(dt.UTC).date().isoformat()),
+    rows = [("run on", date or dt.datetime.now(dt.UTC).date().isoformat()),
             ("tool", f"sumo-clearance {_version('sumo-clearance')}, "
                      f"SUMO {_version('eclipse-sumo')}"),
             ("network file", f"{nc.path.name}  sha256 {sha256_of(nc.path)[:16]}")]
@@ -307,34 +302,150 @@ def title_rows(nc: NetworkCurves, tables: Sequence[Path], date: str | None = Non
     return rows
 
 
-def network_sheets(study: Study, nc: NetworkCurves, tables: Sequence[Path],
-                   units: str = "m", limit: int = MAX_SHEETS) -> list[Figure]:
-    """The sheets of one network as figures (the caller closes them)."""
+def _storey_pages(s: Shown, curve: Curve, ghost: Shown | None, offset_m: float
+                  ) -> list[SheetPage]:
+    """The pages of one run: one, or one per storey of a run that passes over itself (the
+    ghost cut likewise where it turns as many times, else whole on each)."""
+    run = s.run
+    if run is None:
+        return [SheetPage(s, curve, ghost)]
+    tr = run.trajectory
+    stretches = storey_stretches(curve, tr.theta_rad, tr.s_m)
+    if len(stretches) == 1:
+        return [SheetPage(s, curve, ghost)]
+    g_run = ghost.run if ghost is not None else None
+    g_stretches = (storey_stretches(curve, g_run.trajectory.theta_rad, g_run.trajectory.s_m)
+                   if g_run is not None else [])
+    pages = []
+    for k, stretch in enumerate(stretches):
+        g = ghost
+        if ghost is not None and len(g_stretches) == len(stretches):
+            g = storey_shown(ghost, g_stretches[k], offset_m)
+        lo, hi = storey_heights(curve, tr.s_m, stretch)
+        pages.append(SheetPage(storey_shown(s, stretch, offset_m), curve, g,
+                               storey=(k + 1, len(stretches), lo, hi)))
+    return pages
+
+
+def sheet_pages(study: Study, nc: NetworkCurves, settings: SheetSettings = DEFAULT_SHEETS
+                ) -> list[SheetPage]:
+    """The sheets of one network (:func:`pick_sheets`), each run driven again for its
+    drawing, with its ghost (:attr:`SheetSettings.ghost`'s run on the same curve, on every
+    other vehicle's sheet), numbered from 1."""
     records = [r for r in study.records if r.network == nc.name]
-    chosen = pick_sheets(records, limit)
-    colours = vehicle_colours(study.table.names)
-    by_name = {v.name: v for v in study.table.vehicles()}
+    chosen = pick_sheets(records, settings.which, settings.limit)
+    ghosts = {r.curve_id: r for r in records
+              if settings.ghost and r.vehicle == settings.ghost and r.verdict != "error"}
     by_curve = {c.curve_id: c for c in nc.curves}
-    shown = [Shown(r, colours[r.vehicle]) for r in chosen]
+    pages: list[SheetPage] = []
     for cid in dict.fromkeys(r.curve_id for r in chosen):
-        group = [s for s in shown if s.record.curve_id == cid and s.record.method == "simulate"]
-        if not group:  # analytic runs: drawn by their envelopes alone
-            continue
-        runs = rerun(nc, by_curve[cid], [by_name[s.record.vehicle] for s in group],
-                     [s.record for s in group], study.clearance_m)
-        for s, d in zip(group, runs, strict=True):
-            s.driven = d
+        mine = [r for r in chosen if r.curve_id == cid]
+        g = ghosts.get(cid)
+        extra = [g] if g is not None and any(r.vehicle != g.vehicle for r in mine) else []
+        shown = shown_runs(nc, by_curve[cid], mine + extra, study.table)
+        ghost = shown[-1] if extra else None
+        if ghost is not None:
+            ghost.colour = GHOST[0]
+        for s in shown[:len(mine)]:
+            beside = (ghost if ghost is not None and s.record.vehicle != ghost.record.vehicle
+                      else None)
+            pages += _storey_pages(s, by_curve[cid], beside, s.record.clearance_m)
+    for i, page in enumerate(pages, start=1):
+        page.number = i
+    return pages
+
+
+#: The index's columns: heading, x (mm from the frame's left), width (mm).
+_INDEX_COLUMNS = (("sheet", 0.0, 28.0), ("curve", 28.0, 92.0), ("kind", 120.0, 16.0),
+                  ("junction", 136.0, 30.0), ("vehicle", 166.0, 24.0),
+                  ("verdict", 190.0, 18.0), ("margin: lanes / pavement", 208.0, 46.0),
+                  ("scale", 254.0, 18.0))
+
+
+def _index_cells(page: SheetPage, project: Project, units: str) -> list[str]:
+    r, c = page.shown.record, page.curve
+    storey = "" if page.storey is None else f" (storey {page.storey[0]}/{page.storey[1]})"
+    return [project.sheet_number(page.number), c.curve_id + storey, c.kind,
+            c.junction or "-", r.vehicle, r.verdict,
+            f"{length_text(r.margin_m, units)} / {length_text(r.paved_margin_m, units)}",
+            f"1:{page.scale}"]
+
+
+def index_pages(nc: NetworkCurves, pages: Sequence[SheetPage], units: str,
+                head: list[tuple[str, str]], project: Project) -> list[Figure]:
+    """The index of a network's sheets, first in its PDF: per sheet its drawing number,
+    curve (whole), kind, junction, vehicle, verdict, margins and scale; as many index
+    sheets as the rows need (the caller closes the figures)."""
+    W, H = PAPER_MM
+    fx = FRAME_MM[0]
+    top_mm, foot_mm = INDEX_ROWS_MM
+    rows = []
+    for page in pages:
+        cells = [textwrap.wrap(v, max(6, int(w / 1.25)), break_on_hyphens=False) or ["-"]
+                 for v, (_, _, w) in zip(_index_cells(page, project, units), _INDEX_COLUMNS,
+                                         strict=True)]
+        rows.append(cells)
+    chunks: list[list[list[list[str]]]] = [[]]
+    y = top_mm
+    for cells in rows:
+        h = LINE_MM * max(len(c) for c in cells) + 0.8
+        if y - h < foot_mm and chunks[-1]:
+            chunks.append([])
+            y = top_mm
+        chunks[-1].append(cells)
+        y -= h
+    figs = []
+    for n, chunk in enumerate(chunks, start=1):
+        with plt.rc_context(STYLE):
+            fig = plt.figure(figsize=(W * MM, H * MM))
+        fig.add_artist(Rectangle((5 / W, 5 / H), (W - 10) / W, (H - 10) / H,
+                                 transform=fig.transFigure, fc="none", ec="black", lw=1.2))
+        fig.text(fx / W, (H - 12) / H, f"Swept-path sheets of {nc.name}: index"
+                 + (f" ({n} of {len(chunks)})" if len(chunks) > 1 else ""),
+                 fontsize=12, fontweight="bold", va="top")
+        y = top_mm
+        for head_text, x, _ in _INDEX_COLUMNS:
+            fig.text((fx + x) / W, y / H, head_text, fontsize=6.5, fontweight="bold")
+        y -= 2.0
+        fig.add_artist(Rectangle((fx / W, y / H), 272 / W, 0.0, transform=fig.transFigure,
+                                 ec="black", lw=0.6))
+        for cells in chunk:
+            y -= LINE_MM
+            for lines, (_, x, _) in zip(cells, _INDEX_COLUMNS, strict=True):
+                for i, line in enumerate(lines):
+                    fig.text((fx + x) / W, (y - i * LINE_MM) / H, line, fontsize=6.2)
+            y -= LINE_MM * (max(len(c) for c in cells) - 1) + 0.8
+        bx, bw = BLOCKS_MM
+        title_block(fig, bx, BLOCKS_FOOT_MM, bw, project,
+                    f"Swept-path sheets of {nc.name}: index", project.sheet_number(0), "-",
+                    f"index {n} of {len(chunks)}")
+        block(fig, bx, H - 10.0, bw, "STUDY",
+              [("network", nc.name), *head, ("sheets", str(len(pages)))])
+        figs.append(fig)
+    return figs
+
+
+def network_sheets(study: Study, nc: NetworkCurves, tables: Sequence[Path],
+                   units: str = "m", settings: SheetSettings = DEFAULT_SHEETS
+                   ) -> list[Figure]:
+    """The index and sheets of one network as figures (the caller closes them); none when
+    no run gets a sheet."""
+    pages = sheet_pages(study, nc, settings)
+    if not pages:
+        return []
     head = title_rows(nc, tables)
-    return [_sheet(nc, s, units, head, i, len(shown), by_name)
-            for i, s in enumerate(shown, start=1)]
+    vehicles = {v.name: v for v in study.table.vehicles()}
+    sheets = [_sheet(nc, p, units, head, len(pages), settings.project, vehicles)
+              for p in pages]
+    return index_pages(nc, pages, units, head, settings.project) + sheets
 
 
 def write_sheets(study: Study, folder: Path, tables: Sequence[Path], units: str = "m",
-                 limit: int = MAX_SHEETS) -> list[Path]:
+                 settings: SheetSettings = DEFAULT_SHEETS) -> list[Path]:
     """``folder/<network>.pdf`` for every network with a run to draw; the paths written."""
     written = []
     for nc in study.networks:
-        figs = network_sheets(study, nc, tables, units, limit)
+        figs = network_sheets(study, nc, tables, units, settings)
         if not figs:
             continue
         buf = io.BytesIO()

@@ -359,7 +359,8 @@ def template_sheet(t90: Template, t180: Template, metrics_row, units: str, colou
         add_scale_bar,
         plan_axes,
     )
-    from clearance.reports.documents.sheets import MM, fit_scale, vehicle_rows
+    from clearance.reports.documents.sheet_blocks import MM, vehicle_rows
+    from clearance.reports.documents.sheets import fit_scale
 
     W, H = TEMPLATE_PAPER_MM
     pw, ph = TEMPLATE_PANEL_MM

@@ -11,12 +11,14 @@ into its folder is :data:`LAYOUT` (a folder holding anything else is never repla
 
 from __future__ import annotations
 
+from dataclasses import replace
 from pathlib import Path
 
 from clearance.reports.documents.drawings import Drawings, network_tasks
 from clearance.reports.documents.markdown import markdown
 from clearance.reports.documents.report import Section, anchor, build_sections, html_document
 from clearance.reports.documents.route_maps import route_maps, routes_html
+from clearance.reports.documents.sheet_settings import DEFAULT_SHEETS, SheetSettings
 from clearance.reports.exports.patches import write_patches
 from clearance.reports.exports.study import export_names, georeferenced, write_exports
 from clearance.reports.output.atomic import write_text_atomic
@@ -52,12 +54,18 @@ LAYOUT = Layout(
 def write_report(study: Study, folder: Path, tables: list[Path], units: str = "m",
                  waived: Waived | None = None, origin: tuple[float, float] | None = None,
                  executor: Executor | None = None,
-                 routes: RouteStudy | None = None) -> None:
+                 routes: RouteStudy | None = None,
+                 sheets: SheetSettings = DEFAULT_SHEETS) -> None:
     """Write every output of ``study`` into ``folder`` (which must be new or empty);
     ``waived`` runs are shown as such (:mod:`clearance.reports.results.waivers`); ``origin`` (lat,
-    lon) places the networks without a projection in the GeoJSON exports. With ``executor``
-    the curve figures, sheets and exports are drawn in its workers (:class:`Drawings`)."""
+    lon) places the networks without a projection in the GeoJSON exports; ``sheets`` says
+    which runs get a sheet (a route study's baseline is their ghost unless another is
+    named). With ``executor`` the curve figures, sheets and exports are drawn in its workers
+    (:class:`Drawings`)."""
     from clearance.reports.documents.sheets import write_sheets
+
+    if routes is not None and routes.baseline and not sheets.ghost:
+        sheets = replace(sheets, ghost=routes.baseline)
 
     write_text_atomic(folder / "clearance.csv", clearance_csv(study, waived, units))
     write_text_atomic(folder / "summary.json", summary_json(
@@ -70,10 +78,10 @@ def write_report(study: Study, folder: Path, tables: list[Path], units: str = "m
     if executor is None:
         exports = write_exports(study, folder, origin)
         sections = build_sections(study, folder, units, waived)
-        write_sheets(study, folder / "sheets", tables, units)
+        write_sheets(study, folder / "sheets", tables, units, sheets)
     else:
         drawings = Drawings(executor, folder)
-        for drawing, path in network_tasks(study, tables, units, origin):
+        for drawing, path in network_tasks(study, tables, units, origin, sheets):
             drawings.submit(drawing, path)
         exports = {nc.name: export_names(nc.name, georeferenced(nc, origin))
                    for nc in study.networks}
