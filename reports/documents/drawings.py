@@ -9,6 +9,7 @@ drawing lost for good was to show."""
 from __future__ import annotations
 
 import logging
+import pickle
 import tempfile
 from collections.abc import Callable
 from concurrent.futures import Future
@@ -26,7 +27,7 @@ from clearance.reports.documents.figures import (
 )
 from clearance.reports.documents.html_images import COMPACT_MADE, compact_key, compact_png
 from clearance.reports.documents.report import Section
-from clearance.reports.documents.sheet_settings import DEFAULT_SHEETS, SheetSettings
+from clearance.reports.documents.sheet_settings import DEFAULT_SHEETS, Project, SheetSettings
 from clearance.reports.exports.study import (
     DRAWN_RUNS,
     drawn_geometry,
@@ -51,8 +52,9 @@ from clearance.reports.study.run import (
     progress_bar,
 )
 
-__all__ = ["COMPACT", "Drawing", "Drawings", "NetworkTask", "curve_figure_files", "draw",
-           "network_exports", "network_sheets_pdf", "network_tasks"]
+__all__ = ["COMPACT", "SHEETS_PER_TASK", "SHEET_PART", "Drawing", "Drawings", "NetworkTask",
+           "SheetsTask", "curve_figure_files", "draw", "network_exports", "network_sheets_pdf",
+           "network_tasks"]
 
 log = logging.getLogger(__name__)
 
@@ -95,15 +97,41 @@ def network_exports(task: NetworkTask, shared: SharedFile) -> dict[str, bytes]:
         root / "exports", recs, study.networks[0], names, task.origin))
 
 
-def network_sheets_pdf(task: NetworkTask, shared: SharedFile) -> dict[str, bytes]:
-    """One network's sheets (:func:`clearance.reports.documents.sheets.write_sheets`), as files
-    relative to the report."""
-    from clearance.reports.documents.sheets import write_sheets
+#: Sheets a sheets task draws at most (a curve's runs kept together): a town's hundreds of
+#: sheets spread over the workers, their parts joined into one PDF per network.
+SHEETS_PER_TASK = 12
+#: The name under which a task's files carry a part of a network's sheets
+#: (:class:`SheetsTask`): this prefix, the part's number and the network.
+SHEET_PART = "sheets-part:"
 
+
+@dataclass(frozen=True)
+class SheetsTask:
+    """A part of a network's sheets to draw in a worker: the runs (vehicle, curve) it
+    draws, numbered from ``first`` of ``total``, in the network task's records (which hold
+    the ghost's runs on their curves too)."""
+
+    task: NetworkTask
+    runs: tuple[tuple[str, str], ...]
+    first: int
+    total: int
+    part: int
+
+
+def network_sheets_pdf(sheets: SheetsTask, shared: SharedFile) -> dict[str, bytes]:
+    """A part of one network's sheets
+    (:func:`clearance.reports.documents.sheets.sheet_part`): its PDF and index lines,
+    pickled under :data:`SHEET_PART`, which :class:`Drawings` joins
+    (:meth:`Drawings.write_sheets`)."""
+    from clearance.reports.documents.sheets import sheet_part
+
+    task = sheets.task
     study = task.local(shared)
-    return scratch_files(lambda root: write_sheets(study, root / "sheets",
-                                                   [Path(t) for t in task.tables], task.units,
-                                                   task.sheets))
+    by_key = {(r.vehicle, r.curve_id): r for r in study.records}
+    runs = [by_key[k] for k in sheets.runs]
+    part = sheet_part(study, study.networks[0], [Path(t) for t in task.tables], task.units,
+                      task.sheets, runs, sheets.first, sheets.total)
+    return {f"{SHEET_PART}{sheets.part:05d}:{task.network}": pickle.dumps((*part, sheets.total))}
 
 
 #: The name under which a task's files carry the compact copy of a PNG for the HTML
@@ -163,6 +191,8 @@ class Drawings:
         self.executor, self.folder = executor, folder
         self._pending: list[tuple[Drawing, str, Future[dict[str, bytes]] | None]] = []
         self._shared: dict[str, SharedFile] = {}
+        #: The parts of each network's sheets drawn (:data:`SHEET_PART`), by part number.
+        self._sheet_parts: dict[str, dict[int, bytes]] = {}
         #: The drawings lost, with the reason.
         self.lost: list[tuple[Drawing, str]] = []
 
@@ -221,8 +251,30 @@ class Drawings:
         for rel, data in files.items():
             if rel.startswith(COMPACT):
                 COMPACT_MADE[rel.removeprefix(COMPACT)] = data
+            elif rel.startswith(SHEET_PART):
+                part, network = rel.removeprefix(SHEET_PART).split(":", 1)
+                self._sheet_parts.setdefault(network, {})[int(part)] = data
             else:
                 write_bytes_atomic(self.folder / rel, data)
+
+    def write_sheets(self, study: Study, tables: list[Path], project: Project) -> None:
+        """Join each network's sheet parts drawn by the workers into ``sheets/NET.pdf``,
+        after an index of them drawn here
+        (:func:`clearance.reports.documents.sheets.index_pdf`)."""
+        from clearance.reports.documents.sheets import index_pdf, join_pdfs, title_rows
+
+        for nc in study.networks:
+            parts = self._sheet_parts.pop(nc.name, {})
+            if not parts:
+                continue
+            pdfs, rows, total = [], [], 0
+            for k in sorted(parts):
+                pdf, lines, total = pickle.loads(parts[k])
+                pdfs.append(pdf)
+                rows += lines
+            index = index_pdf(nc, rows, title_rows(nc, tables), project, total)
+            write_bytes_atomic(self.folder / "sheets" / file_name([nc.name], ".pdf"),
+                               join_pdfs([index, *pdfs]))
 
     def _lose(self, drawing: Drawing, reason: str) -> dict[str, bytes]:
         self.lost.append((drawing, reason))
@@ -273,13 +325,7 @@ def network_tasks(study: Study, tables: list[Path], units: str,
     for nc in study.networks:
         records = tuple(r for r in study.records if r.network == nc.name)
         by_id = {c.curve_id: c for c in nc.curves}
-        # the sheets' runs pick themselves again from themselves, so they (and the ghost's
-        # runs on their curves) are all the sheets task is sent
         picked = pick_sheets(records, sheets_asked.which, sheets_asked.limit)
-        sheet_ids = dict.fromkeys(r.curve_id for r in picked)
-        ghosts = [r for r in records if sheets_asked.ghost and r.curve_id in sheet_ids
-                  and r.vehicle == sheets_asked.ghost and all(r is not p for p in picked)]
-        sheeted = tuple(picked + ghosts)
         f = frame[(frame.network == nc.name) & (frame.verdict != "error")]
         drawn = (worst_by_curve(f).head(DRAWN_RUNS) if study.method == "simulate"
                  and not f.empty else f.iloc[:0])
@@ -292,13 +338,42 @@ def network_tasks(study: Study, tables: list[Path], units: str,
         names = tuple(export_names(nc.name, georeferenced(nc, origin)).items())
         base = NetworkTask(nc.name, str(nc.path), (), records, head, tuple(map(str, tables)),
                            units, names, origin, sheets_asked)
-        sheets = NetworkTask(**{**base.__dict__, "records": sheeted,
-                                "curves": tuple(bare(by_id[c]) for c in sheet_ids)})
         exports = NetworkTask(**{**base.__dict__, "records": exported,
                                  "curves": tuple(bare(by_id[c]) for c in drawn_ids)})
-        if picked:
-            out.append((Drawing(network_sheets_pdf, sheets, nc.name, "sheets",
-                                f"sheets (sheets/{file_name([nc.name], '.pdf')})"), nc.path))
+        out += [(d, nc.path) for d in _sheet_drawings(base, records, picked, by_id)]
         out.append((Drawing(network_exports, exports, nc.name, "exports", "exports ("
                             + ", ".join(f"exports/{n}" for _, n in names) + ")"), nc.path))
+    return out
+
+
+def _sheet_drawings(base: NetworkTask, records: tuple[RunRecord, ...],
+                    picked: list[RunRecord], by_id: dict[str, Curve]) -> list[Drawing]:
+    """The sheets of one network in parts of about :data:`SHEETS_PER_TASK` runs, a curve's
+    runs in one part: each part with its curves and its runs, the ghost's runs on those
+    curves, and the number of its first sheet."""
+    groups: list[list[RunRecord]] = []
+    for r in picked:
+        if groups and groups[-1][-1].curve_id == r.curve_id:
+            groups[-1].append(r)
+        else:
+            groups.append([r])
+    parts: list[list[RunRecord]] = [[]]
+    for g in groups:
+        if parts[-1] and len(parts[-1]) + len(g) > SHEETS_PER_TASK:
+            parts.append([])
+        parts[-1].extend(g)
+    ghost = base.sheets.ghost
+    out, first = [], 1
+    name = file_name([base.network], ".pdf")
+    for k, runs in enumerate(p for p in parts if p):
+        ids = dict.fromkeys(r.curve_id for r in runs)
+        mine = tuple(runs) + tuple(r for r in records if ghost and r.vehicle == ghost
+                                   and r.curve_id in ids and all(r is not p for p in runs))
+        task = replace(base, records=mine, curves=tuple(bare(by_id[c]) for c in ids))
+        sheets = SheetsTask(task, tuple((r.vehicle, r.curve_id) for r in runs), first,
+                            len(picked), k)
+        last = first + len(runs) - 1
+        out.append(Drawing(network_sheets_pdf, sheets, base.network, "sheets",
+                           f"sheets {first} to {last} (sheets/{name})"))
+        first = last + 1
     return out

@@ -26,7 +26,7 @@ import datetime as dt
 import io
 import textwrap
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import astuple, dataclass
 from pathlib import Path
 
 import matplotlib.pyplot as plt
@@ -66,10 +66,10 @@ from clearance.reports.results.records import VERDICT_ORDER, RunRecord
 from clearance.reports.results.tables import _version, sha256_of
 from clearance.reports.study.run import NetworkCurves, Study
 
-__all__ = ["BLOCKS_MM", "FRAME_MM", "INDEX_ROWS_MM", "LEGEND_MM", "MANOEUVRE_REACH_M",
-           "SCALES", "SheetPage", "fit_scale", "index_pages", "manoeuvre_box",
-           "network_sheets", "pick_sheets", "sheet_pages", "sheet_view", "title_rows",
-           "write_sheets"]
+__all__ = ["BLOCKS_MM", "FRAME_MM", "INDEX_ROWS_MM", "IndexRow", "LEGEND_MM",
+           "MANOEUVRE_REACH_M", "SCALES", "SheetPage", "fit_scale", "index_pdf", "join_pdfs",
+           "manoeuvre_box", "network_sheets_bytes", "pick_sheets", "sheet_pages", "sheet_part",
+           "sheet_view", "title_rows", "write_sheets"]
 
 #: Drawing scales tried in order (1:N); the first at which the drawing fits is used.
 SCALES = (100, 200, 250, 500, 1000)
@@ -195,9 +195,10 @@ def sheet_view(curve: Curve, s: Shown) -> tuple[tuple[float, float, float, float
 
 @dataclass
 class SheetPage:
-    """One swept-path sheet: the run shown, the ghost beside it (or None), its number, and
-    on a run drawn one storey per view (:mod:`~clearance.reports.documents.storeys`) which
-    storey: ``(k, count, z_lo_m, z_hi_m)``."""
+    """One swept-path sheet: the run shown, the ghost beside it (or None), its run's number
+    (a run's storeys share it), and on a run drawn one storey per view
+    (:mod:`~clearance.reports.documents.storeys`) which storey: ``(k, count, z_lo_m,
+    z_hi_m)``; its scale ``1:N``."""
 
     shown: Shown
     curve: Curve
@@ -224,6 +225,23 @@ class SheetPage:
             text += f", storey {k} of {count} ({lo:.1f} to {hi:.1f} m)"
         return text
 
+    def drawing_number(self, project: Project) -> str:
+        """The sheet's drawing number: the project's for its run, ``.k`` for storey k.
+
+        >>> from types import SimpleNamespace as S
+        >>> SheetPage(None, None, number=7, storey=(2, 3, 0, 3)).drawing_number(
+        ...     Project(drawing_number="HR"))
+        'HR-007.2'
+        """
+        base = project.sheet_number(self.number)
+        return base if self.storey is None else f"{base}.{self.storey[0]}"
+
+    def sheet_words(self, total: int) -> str:
+        """``7 of 23``, with the storey on a storey's sheet."""
+        words = f"{self.number} of {total}"
+        return words if self.storey is None else (
+            f"{words}, storey {self.storey[0]} of {self.storey[1]}")
+
 
 def _column(fig: Figure, page: SheetPage, nc: NetworkCurves, units: str,
             head: list[tuple[str, str]], total: int, project: Project,
@@ -234,10 +252,9 @@ def _column(fig: Figure, page: SheetPage, nc: NetworkCurves, units: str,
     W, H = PAPER_MM
     bx, bw = BLOCKS_MM
     s, r, curve = page.shown, page.shown.record, page.curve
-    number = project.sheet_number(page.number)
-    title = page.title()
-    foot = title_block(fig, bx, BLOCKS_FOOT_MM, bw, project, title, number,
-                       f"1:{page.scale} on A3", f"{page.number} of {total}")
+    foot = title_block(fig, bx, BLOCKS_FOOT_MM, bw, project, page.title(),
+                       page.drawing_number(project), f"1:{page.scale} on A3",
+                       page.sheet_words(total))
     rows = [("network", nc.name), ("curve", curve.curve_id), ("kind", curve.kind),
             ("junction", curve.junction or "-"),
             ("units", "feet" if units == "ft" else "metres")] + head
@@ -327,19 +344,22 @@ def _storey_pages(s: Shown, curve: Curve, ghost: Shown | None, offset_m: float
     return pages
 
 
-def sheet_pages(study: Study, nc: NetworkCurves, settings: SheetSettings = DEFAULT_SHEETS
-                ) -> list[SheetPage]:
-    """The sheets of one network (:func:`pick_sheets`), each run driven again for its
-    drawing, with its ghost (:attr:`SheetSettings.ghost`'s run on the same curve, on every
-    other vehicle's sheet), numbered from 1."""
+def sheet_pages(study: Study, nc: NetworkCurves, settings: SheetSettings = DEFAULT_SHEETS,
+                runs: Sequence[RunRecord] | None = None, first: int = 1) -> list[SheetPage]:
+    """The sheets of ``runs`` of one network (default: :func:`pick_sheets`), each run driven
+    again for its drawing, with its ghost (:attr:`SheetSettings.ghost`'s run on the same
+    curve, on every other vehicle's sheet); the runs numbered from ``first`` in their
+    order, a run's storeys sharing its number."""
     records = [r for r in study.records if r.network == nc.name]
-    chosen = pick_sheets(records, settings.which, settings.limit)
+    if runs is None:
+        runs = pick_sheets(records, settings.which, settings.limit)
+    numbers = {id(r): first + i for i, r in enumerate(runs)}
     ghosts = {r.curve_id: r for r in records
               if settings.ghost and r.vehicle == settings.ghost and r.verdict != "error"}
     by_curve = {c.curve_id: c for c in nc.curves}
     pages: list[SheetPage] = []
-    for cid in dict.fromkeys(r.curve_id for r in chosen):
-        mine = [r for r in chosen if r.curve_id == cid]
+    for cid in dict.fromkeys(r.curve_id for r in runs):
+        mine = [r for r in runs if r.curve_id == cid]
         g = ghosts.get(cid)
         extra = [g] if g is not None and any(r.vehicle != g.vehicle for r in mine) else []
         shown = shown_runs(nc, by_curve[cid], mine + extra, study.table)
@@ -349,10 +369,56 @@ def sheet_pages(study: Study, nc: NetworkCurves, settings: SheetSettings = DEFAU
         for s in shown[:len(mine)]:
             beside = (ghost if ghost is not None and s.record.vehicle != ghost.record.vehicle
                       else None)
-            pages += _storey_pages(s, by_curve[cid], beside, s.record.clearance_m)
-    for i, page in enumerate(pages, start=1):
-        page.number = i
+            for page in _storey_pages(s, by_curve[cid], beside, s.record.clearance_m):
+                page.number = numbers[id(s.record)]
+                pages.append(page)
+    pages.sort(key=lambda p: (p.number, p.storey[0] if p.storey else 0))
     return pages
+
+
+@dataclass(frozen=True)
+class IndexRow:
+    """One line of a network's sheet index (:func:`index_pdf`), as a part of the sheets
+    reports it (:func:`sheet_part`)."""
+
+    number: str
+    curve: str
+    kind: str
+    junction: str
+    vehicle: str
+    verdict: str
+    margins: str
+    scale: str
+
+    @classmethod
+    def of(cls, page: SheetPage, project: Project, units: str) -> IndexRow:
+        """The index line of a drawn ``page`` (its scale set)."""
+        r, c = page.shown.record, page.curve
+        storey = "" if page.storey is None else f" (storey {page.storey[0]}/{page.storey[1]})"
+        return cls(page.drawing_number(project), c.curve_id + storey, c.kind,
+                   c.junction or "-", r.vehicle, r.verdict,
+                   f"{length_text(r.margin_m, units)} / {length_text(r.paved_margin_m, units)}",
+                   f"1:{page.scale}")
+
+
+def sheet_part(study: Study, nc: NetworkCurves, tables: Sequence[Path], units: str,
+               settings: SheetSettings, runs: Sequence[RunRecord], first: int, total: int
+               ) -> tuple[bytes, list[IndexRow]]:
+    """The sheets of ``runs`` (numbered from ``first`` of ``total``) as one PDF, each sheet
+    drawn, saved and closed in turn (a town's hundreds of A3 figures never all in memory),
+    and their index lines."""
+    pages = sheet_pages(study, nc, settings, runs, first)
+    head = title_rows(nc, tables)
+    vehicles = {v.name: v for v in study.table.vehicles()}
+    rows = []
+    buf = io.BytesIO()
+    with PdfPages(buf, metadata={"Creator": "sumo-clearance", "CreationDate": None}) as pdf:
+        for page in pages:
+            fig = _sheet(nc, page, units, head, total, settings.project, vehicles)
+            pdf.savefig(fig)
+            plt.close(fig)
+            rows.append(IndexRow.of(page, settings.project, units))
+    return buf.getvalue(), rows
 
 
 #: The index's columns: heading, x (mm from the frame's left), width (mm).
@@ -362,82 +428,102 @@ _INDEX_COLUMNS = (("sheet", 0.0, 28.0), ("curve", 28.0, 92.0), ("kind", 120.0, 1
                   ("scale", 254.0, 18.0))
 
 
-def _index_cells(page: SheetPage, project: Project, units: str) -> list[str]:
-    r, c = page.shown.record, page.curve
-    storey = "" if page.storey is None else f" (storey {page.storey[0]}/{page.storey[1]})"
-    return [project.sheet_number(page.number), c.curve_id + storey, c.kind,
-            c.junction or "-", r.vehicle, r.verdict,
-            f"{length_text(r.margin_m, units)} / {length_text(r.paved_margin_m, units)}",
-            f"1:{page.scale}"]
-
-
-def index_pages(nc: NetworkCurves, pages: Sequence[SheetPage], units: str,
-                head: list[tuple[str, str]], project: Project) -> list[Figure]:
-    """The index of a network's sheets, first in its PDF: per sheet its drawing number,
-    curve (whole), kind, junction, vehicle, verdict, margins and scale; as many index
-    sheets as the rows need (the caller closes the figures)."""
-    W, H = PAPER_MM
-    fx = FRAME_MM[0]
+def _index_chunks(rows: Sequence[IndexRow]) -> list[list[list[list[str]]]]:
+    """The index's lines wrapped into their columns, in as many sheets as they need."""
     top_mm, foot_mm = INDEX_ROWS_MM
-    rows = []
-    for page in pages:
-        cells = [textwrap.wrap(v, max(6, int(w / 1.25)), break_on_hyphens=False) or ["-"]
-                 for v, (_, _, w) in zip(_index_cells(page, project, units), _INDEX_COLUMNS,
-                                         strict=True)]
-        rows.append(cells)
     chunks: list[list[list[list[str]]]] = [[]]
     y = top_mm
-    for cells in rows:
+    for row in rows:
+        cells = [textwrap.wrap(v, max(6, int(w / 1.25)), break_on_hyphens=False) or ["-"]
+                 for v, (_, _, w) in zip(astuple(row), _INDEX_COLUMNS, strict=True)]
         h = LINE_MM * max(len(c) for c in cells) + 0.8
         if y - h < foot_mm and chunks[-1]:
             chunks.append([])
             y = top_mm
         chunks[-1].append(cells)
         y -= h
-    figs = []
-    for n, chunk in enumerate(chunks, start=1):
-        with plt.rc_context(STYLE):
-            fig = plt.figure(figsize=(W * MM, H * MM))
-        fig.add_artist(Rectangle((5 / W, 5 / H), (W - 10) / W, (H - 10) / H,
-                                 transform=fig.transFigure, fc="none", ec="black", lw=1.2))
-        fig.text(fx / W, (H - 12) / H, f"Swept-path sheets of {nc.name}: index"
-                 + (f" ({n} of {len(chunks)})" if len(chunks) > 1 else ""),
-                 fontsize=12, fontweight="bold", va="top")
-        y = top_mm
-        for head_text, x, _ in _INDEX_COLUMNS:
-            fig.text((fx + x) / W, y / H, head_text, fontsize=6.5, fontweight="bold")
-        y -= 2.0
-        fig.add_artist(Rectangle((fx / W, y / H), 272 / W, 0.0, transform=fig.transFigure,
-                                 ec="black", lw=0.6))
-        for cells in chunk:
-            y -= LINE_MM
-            for lines, (_, x, _) in zip(cells, _INDEX_COLUMNS, strict=True):
-                for i, line in enumerate(lines):
-                    fig.text((fx + x) / W, (y - i * LINE_MM) / H, line, fontsize=6.2)
-            y -= LINE_MM * (max(len(c) for c in cells) - 1) + 0.8
-        bx, bw = BLOCKS_MM
-        title_block(fig, bx, BLOCKS_FOOT_MM, bw, project,
-                    f"Swept-path sheets of {nc.name}: index", project.sheet_number(0), "-",
-                    f"index {n} of {len(chunks)}")
-        block(fig, bx, H - 10.0, bw, "STUDY",
-              [("network", nc.name), *head, ("sheets", str(len(pages)))])
-        figs.append(fig)
-    return figs
+    return chunks
 
 
-def network_sheets(study: Study, nc: NetworkCurves, tables: Sequence[Path],
-                   units: str = "m", settings: SheetSettings = DEFAULT_SHEETS
-                   ) -> list[Figure]:
-    """The index and sheets of one network as figures (the caller closes them); none when
-    no run gets a sheet."""
-    pages = sheet_pages(study, nc, settings)
-    if not pages:
-        return []
-    head = title_rows(nc, tables)
-    vehicles = {v.name: v for v in study.table.vehicles()}
-    sheets = [_sheet(nc, p, units, head, len(pages), settings.project, vehicles)
-              for p in pages]
-    return index_pages(nc, pages, units, head, settings.project) + sheets
+def index_pdf(nc: NetworkCurves, rows: Sequence[IndexRow], head: list[tuple[str, str]],
+              project: Project, total: int) -> bytes:
+    """The index of a network's sheets, first in its PDF: per sheet its drawing number,
+    curve (whole), kind, junction, vehicle, verdict, margins and scale, on as many index
+    sheets as the lines need, each with the study's block and the title block."""
+    W, H = PAPER_MM
+    fx = FRAME_MM[0]
+    chunks = _index_chunks(rows)
+    buf = io.BytesIO()
+    with PdfPages(buf, metadata={"Creator": "sumo-clearance", "CreationDate": None}) as pdf:
+        for n, chunk in enumerate(chunks, start=1):
+            with plt.rc_context(STYLE):
+                fig = plt.figure(figsize=(W * MM, H * MM))
+            fig.add_artist(Rectangle((5 / W, 5 / H), (W - 10) / W, (H - 10) / H,
+                                     transform=fig.transFigure, fc="none", ec="black",
+                                     lw=1.2))
+            fig.text(fx / W, (H - 12) / H, f"Swept-path sheets of {nc.name}: index"
+                     + (f" ({n} of {len(chunks)})" if len(chunks) > 1 else ""),
+                     fontsize=12, fontweight="bold", va="top")
+            y = INDEX_ROWS_MM[0]
+            for head_text, x, _ in _INDEX_COLUMNS:
+                fig.text((fx + x) / W, y / H, head_text, fontsize=6.5, fontweight="bold")
+            y -= 2.0
+            fig.add_artist(Rectangle((fx / W, y / H), 272 / W, 0.0,
+                                     transform=fig.transFigure, ec="black", lw=0.6))
+            for cells in chunk:
+                y -= LINE_MM
+                for lines, (_, x, _) in zip(cells, _INDEX_COLUMNS, strict=True):
+                    for i, line in enumerate(lines):
+                        fig.text((fx + x) / W, (y - i * LINE_MM) / H, line, fontsize=6.2)
+                y -= LINE_MM * (max(len(c) for c in cells) - 1) + 0.8
+            bx, bw = BLOCKS_MM
+            title_block(fig, bx, BLOCKS_FOOT_MM, bw, project,
+                        f"Swept-path sheets of {nc.name}: index", project.sheet_number(0),
+                        "-", f"index {n} of {len(chunks)}")
+            block(fig, bx, H - 10.0, bw, "STUDY",
+                  [("network", nc.name), *head, ("sheets", str(total))])
+            pdf.savefig(fig)
+            plt.close(fig)
+    return buf.getvalue()
+
+
+def join_pdfs(parts: Sequence[bytes]) -> bytes:
+    """One PDF of the pages of ``parts`` in order (pypdf).
+
+    >>> import io
+    >>> from pypdf import PdfWriter
+    >>> def blank(n):
+    ...     w = PdfWriter()
+    ...     for _ in range(n):
+    ...         w.add_blank_page(100, 100)
+    ...     b = io.BytesIO(); w.write(b); return b.getvalue()
+    >>> from pypdf import PdfReader
+    >>> len(PdfReader(io.BytesIO(join_pdfs([blank(1), blank(2)]))).pages)
+    3
+    """
+    from pypdf import PdfReader, PdfWriter
+
+    writer = PdfWriter()
+    for part in parts:
+        writer.append(PdfReader(io.BytesIO(part)))
+    writer.add_metadata({"/Creator": "sumo-clearance"})
+    buf = io.BytesIO()
+    writer.write(buf)
+    return buf.getvalue()
+
+
+def network_sheets_bytes(study: Study, nc: NetworkCurves, tables: Sequence[Path],
+                         units: str = "m", settings: SheetSettings = DEFAULT_SHEETS
+                         ) -> bytes | None:
+    """One network's sheets PDF in this process: the index, then every sheet; None when no
+    run gets a sheet."""
+    records = [r for r in study.records if r.network == nc.name]
+    runs = pick_sheets(records, settings.which, settings.limit)
+    if not runs:
+        return None
+    part, rows = sheet_part(study, nc, tables, units, settings, runs, 1, len(runs))
+    index = index_pdf(nc, rows, title_rows(nc, tables), settings.project, len(runs))
+    return join_pdfs([index, part])
 
 
 def write_sheets(study: Study, folder: Path, tables: Sequence[Path], units: str = "m",
@@ -445,14 +531,7 @@ def write_sheets(study: Study, folder: Path, tables: Sequence[Path], units: str 
     """``folder/<network>.pdf`` for every network with a run to draw; the paths written."""
     written = []
     for nc in study.networks:
-        figs = network_sheets(study, nc, tables, units, settings)
-        if not figs:
-            continue
-        buf = io.BytesIO()
-        with PdfPages(buf, metadata={"Creator": "sumo-clearance", "CreationDate": None}) as pdf:
-            for fig in figs:
-                pdf.savefig(fig)
-                plt.close(fig)
-        written.append(write_bytes_atomic(folder / file_name([nc.name], ".pdf"),
-                                          buf.getvalue()))
+        data = network_sheets_bytes(study, nc, tables, units, settings)
+        if data is not None:
+            written.append(write_bytes_atomic(folder / file_name([nc.name], ".pdf"), data))
     return written

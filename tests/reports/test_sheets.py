@@ -341,3 +341,38 @@ def test_a_helix_gets_one_storey_per_view(tmp_path):
     assert heights[-1][1] - heights[0][0] > 6.0
     [pdf] = write_sheets(study, tmp_path, bundled_table_paths(), settings=SheetSettings("all"))
     assert "storey 2 of 3" in pdf_text(pdf, 3)
+
+
+def test_sheets_drawn_in_parts_by_workers_join_into_the_same_pdf(study, tmp_path):
+    """A network's sheets in parts of SHEETS_PER_TASK runs (a curve's runs together), drawn
+    in worker processes and joined after their index, give the pages, drawing numbers and
+    index of the sheets drawn in one piece here."""
+    from clearance.reports.documents import drawings as d
+    from clearance.reports.study.executor import make_executor
+
+    settings = SheetSettings("all", ghost="P")
+    runs = pick_sheets(study.records, "all")
+    nc = study.networks[0]
+    one = write_sheets(study, tmp_path / "one", bundled_table_paths(), settings=settings)[0]
+    old = d.SHEETS_PER_TASK
+    d.SHEETS_PER_TASK = 4
+    try:
+        tasks = [t for t, _ in d.network_tasks(study, bundled_table_paths(), "m", None,
+                                               settings) if t.part == "sheets"]
+        assert len(tasks) >= 3
+        curves = [{c for _, c in t.task.runs} for t in tasks]
+        assert all(a.isdisjoint(b) for i, a in enumerate(curves) for b in curves[i + 1:])
+        assert [k for t in tasks for k in t.task.runs] == [(r.vehicle, r.curve_id)
+                                                           for r in runs]
+        with make_executor(2) as ex:
+            drawings = d.Drawings(ex, tmp_path / "parts")
+            for t in tasks:
+                drawings.submit(t, nc.path)
+            drawings.finish()
+            drawings.write_sheets(study, bundled_table_paths(), settings.project)
+    finally:
+        d.SHEETS_PER_TASK = old
+    joined = tmp_path / "parts" / "sheets" / one.name
+    assert len(pdf_pages(joined.read_bytes())) == len(pdf_pages(one.read_bytes()))
+    a, b = pdf_text(joined), pdf_text(one)
+    assert re.sub(r"\s+", " ", a) == re.sub(r"\s+", " ", b)
