@@ -12,6 +12,7 @@ from clearance.networks.curves import KINDS
 from clearance.networks.routes import RouteSelection
 from clearance.networks.selection import Selection, parse_bbox
 from clearance.reports.documents.sheet_settings import (
+    MAX_SHEETS,
     PROJECT_FILE,
     SHEET_CHOICES,
     Project,
@@ -189,8 +190,9 @@ def add_sheet_options(p: argparse.ArgumentParser) -> None:
     g.add_argument("--sheets", choices=SHEET_CHOICES, default="not-clear",
                    help="which runs get a sheet: every run that is not clear (default), "
                         "every run, or none")
-    g.add_argument("--max-sheets", type=int, default=None, metavar="N",
-                   help="sheets per network at most, worst first (default: no limit)")
+    g.add_argument("--max-sheets", type=int, default=MAX_SHEETS, metavar="N",
+                   help=f"sheets per network at most, worst first (default {MAX_SHEETS}; "
+                        f"0: no limit)")
     g.add_argument("--ghost", metavar="NAME", default=None,
                    help="draw this vehicle faintly on the other vehicles' sheets, for "
                         "comparison (default: the route study's --baseline)")
@@ -213,8 +215,8 @@ def sheet_settings_of(args: argparse.Namespace, names: Sequence[str]) -> SheetSe
     """The :class:`~clearance.reports.documents.sheet_settings.SheetSettings` of
     :func:`add_sheet_options`' options; ``names`` the vehicles of the study (a ghost must
     be one of them). A bad value raises :class:`~clearance.vehicles.errors.InputError`."""
-    if args.max_sheets is not None and args.max_sheets < 1:
-        raise OptionError(f"--max-sheets must be at least 1, got {args.max_sheets}")
+    if args.max_sheets < 0:
+        raise OptionError(f"--max-sheets must be 0 (no limit) or more, got {args.max_sheets}")
     if args.ghost is not None and args.ghost not in names:
         raise OptionError(f"--ghost {args.ghost!r}: no such vehicle in the study "
                           f"(vehicles: {', '.join(names)})")
@@ -222,4 +224,4 @@ def sheet_settings_of(args: argparse.Namespace, names: Sequence[str]) -> SheetSe
     project = read_project(path) if args.project or path.is_file() else Project()
     fields = ("name", "drawing_number", "drawn", "checked", "revision", "date")
     project = project.merged(**{k: getattr(args, f"project_{k}") for k in fields})
-    return SheetSettings(args.sheets, args.max_sheets, args.ghost or "", project)
+    return SheetSettings(args.sheets, args.max_sheets or None, args.ghost or "", project)

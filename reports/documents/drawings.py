@@ -27,7 +27,7 @@ from clearance.reports.documents.figures import (
 )
 from clearance.reports.documents.html_images import COMPACT_MADE, compact_key, compact_png
 from clearance.reports.documents.report import Section
-from clearance.reports.documents.sheet_settings import DEFAULT_SHEETS, Project, SheetSettings
+from clearance.reports.documents.sheet_settings import DEFAULT_SHEETS, SheetSettings
 from clearance.reports.exports.study import (
     DRAWN_RUNS,
     drawn_geometry,
@@ -257,11 +257,11 @@ class Drawings:
             else:
                 write_bytes_atomic(self.folder / rel, data)
 
-    def write_sheets(self, study: Study, tables: list[Path], project: Project) -> None:
+    def write_sheets(self, study: Study, tables: list[Path], settings: SheetSettings) -> None:
         """Join each network's sheet parts drawn by the workers into ``sheets/NET.pdf``,
         after an index of them drawn here
         (:func:`clearance.reports.documents.sheets.index_pdf`)."""
-        from clearance.reports.documents.sheets import index_pdf, join_pdfs, title_rows
+        from clearance.reports.documents.sheets import index_pdf, join_pdfs, left_out, title_rows
 
         for nc in study.networks:
             parts = self._sheet_parts.pop(nc.name, {})
@@ -272,7 +272,9 @@ class Drawings:
                 pdf, lines, total = pickle.loads(parts[k])
                 pdfs.append(pdf)
                 rows += lines
-            index = index_pdf(nc, rows, title_rows(nc, tables), project, total)
+            records = [r for r in study.records if r.network == nc.name]
+            index = index_pdf(nc, rows, title_rows(nc, tables), settings.project, total,
+                              left_out(records, settings))
             write_bytes_atomic(self.folder / "sheets" / file_name([nc.name], ".pdf"),
                                join_pdfs([index, *pdfs]))
 

@@ -26,14 +26,17 @@ from pathlib import Path
 
 from clearance.vehicles.errors import InputError
 
-__all__ = ["DEFAULT_SHEETS", "PROJECT_FILE", "SHEET_CHOICES", "Project", "SheetSettings",
-           "read_project"]
+__all__ = ["DEFAULT_SHEETS", "MAX_SHEETS", "PROJECT_FILE", "SHEET_CHOICES", "Project",
+           "SheetSettings", "read_project"]
 
 #: The project file a study reads when it lies in the folder the command runs in.
 PROJECT_FILE = "clearance.toml"
 #: ``--sheets``: a sheet for every run that is not clear (the default), for every run, or
 #: for none.
 SHEET_CHOICES = ("not-clear", "all", "none")
+#: Sheets per network at most unless asked otherwise (``--max-sheets``), worst first: every
+#: vehicle of the 20 or so worst curves (a sheet takes half a second to draw and 30 kB).
+MAX_SHEETS = 60
 
 
 @dataclass(frozen=True)
@@ -80,7 +83,9 @@ class SheetSettings:
     which
         One of :data:`SHEET_CHOICES`.
     limit
-        Sheets per network at most (None: every run chosen), worst first.
+        Sheets per network at most (None: every run chosen), worst first; by default
+        :data:`MAX_SHEETS`: a town's hundreds of runs not clear are its report's, the worst
+        curves' its sheets.
     ghost
         A vehicle drawn faintly on every other vehicle's sheet of a curve, for comparison
         (a route study's baseline), or "".
@@ -89,7 +94,7 @@ class SheetSettings:
     """
 
     which: str = "not-clear"
-    limit: int | None = None
+    limit: int | None = MAX_SHEETS
     ghost: str = ""
     project: Project = field(default_factory=Project)
 

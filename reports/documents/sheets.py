@@ -68,8 +68,8 @@ from clearance.reports.study.run import NetworkCurves, Study
 
 __all__ = ["BLOCKS_MM", "FRAME_MM", "INDEX_ROWS_MM", "IndexRow", "LEGEND_MM",
            "MANOEUVRE_REACH_M", "SCALES", "SheetPage", "fit_scale", "index_pdf", "join_pdfs",
-           "manoeuvre_box", "network_sheets_bytes", "pick_sheets", "sheet_pages", "sheet_part",
-           "sheet_view", "title_rows", "write_sheets"]
+           "left_out", "manoeuvre_box", "network_sheets_bytes", "pick_sheets", "sheet_pages",
+           "sheet_part", "sheet_view", "title_rows", "write_sheets"]
 
 #: Drawing scales tried in order (1:N); the first at which the drawing fits is used.
 SCALES = (100, 200, 250, 500, 1000)
@@ -446,10 +446,11 @@ def _index_chunks(rows: Sequence[IndexRow]) -> list[list[list[list[str]]]]:
 
 
 def index_pdf(nc: NetworkCurves, rows: Sequence[IndexRow], head: list[tuple[str, str]],
-              project: Project, total: int) -> bytes:
+              project: Project, total: int, left_out: int = 0) -> bytes:
     """The index of a network's sheets, first in its PDF: per sheet its drawing number,
     curve (whole), kind, junction, vehicle, verdict, margins and scale, on as many index
-    sheets as the lines need, each with the study's block and the title block."""
+    sheets as the lines need, each with the study's block and the title block;
+    ``left_out`` runs that would have had a sheet but for the limit are said there."""
     W, H = PAPER_MM
     fx = FRAME_MM[0]
     chunks = _index_chunks(rows)
@@ -480,8 +481,10 @@ def index_pdf(nc: NetworkCurves, rows: Sequence[IndexRow], head: list[tuple[str,
             title_block(fig, bx, BLOCKS_FOOT_MM, bw, project,
                         f"Swept-path sheets of {nc.name}: index", project.sheet_number(0),
                         "-", f"index {n} of {len(chunks)}")
+            more = ([("not drawn", f"{left_out} more runs, past the limit of sheets "
+                      "(--max-sheets N, 0 for all): report.html has them")] if left_out else [])
             block(fig, bx, H - 10.0, bw, "STUDY",
-                  [("network", nc.name), *head, ("sheets", str(total))])
+                  [("network", nc.name), *head, ("sheets", str(total)), *more])
             pdf.savefig(fig)
             plt.close(fig)
     return buf.getvalue()
@@ -522,8 +525,22 @@ def network_sheets_bytes(study: Study, nc: NetworkCurves, tables: Sequence[Path]
     if not runs:
         return None
     part, rows = sheet_part(study, nc, tables, units, settings, runs, 1, len(runs))
-    index = index_pdf(nc, rows, title_rows(nc, tables), settings.project, len(runs))
+    index = index_pdf(nc, rows, title_rows(nc, tables), settings.project, len(runs),
+                      left_out(records, settings))
     return join_pdfs([index, part])
+
+
+def left_out(records: Sequence[RunRecord], settings: SheetSettings) -> int:
+    """How many runs of ``records`` (one network) would have a sheet but for the limit.
+
+    >>> from types import SimpleNamespace as R
+    >>> rs = [R(curve_id=c, vehicle="T", verdict="fails", margin_m=-1.0) for c in "abc"]
+    >>> left_out(rs, SheetSettings(limit=1)), left_out(rs, SheetSettings(limit=None))
+    (2, 0)
+    """
+    if settings.limit is None:
+        return 0
+    return max(0, len(pick_sheets(records, settings.which, None)) - settings.limit)
 
 
 def write_sheets(study: Study, folder: Path, tables: Sequence[Path], units: str = "m",

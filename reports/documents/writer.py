@@ -88,7 +88,7 @@ def write_report(study: Study, folder: Path, tables: list[Path], units: str = "m
         sections = build_sections(study, folder, units, waived,
                                   draw=drawings.curve_figure(study, units))
         drawings.finish()
-        drawings.write_sheets(study, tables, sheets.project)
+        drawings.write_sheets(study, tables, sheets)
         drawings.mark_lost(sections, exports)
     first = _routes_section(routes, sections, folder, units) if routes is not None else []
     write_text_atomic(folder / "report.md", markdown(study, sections, folder, units))

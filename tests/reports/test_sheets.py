@@ -208,6 +208,8 @@ def test_clearance_report_writes_the_sheets_into_its_folder(tmp_path):
     # a second run replaces the folder (the sheets are part of the report's layout)
     assert main(args + ["--max-sheets", "2"]) == 0
     assert len(pdf_pages(pdf.read_bytes())) == 1 + 2
+    # the index says how many runs the limit left without a sheet
+    assert f"{len(rows) - 2} more runs, past the limit" in " ".join(pdf_text(pdf, 1).split())
     assert main(args + ["--sheets", "none"]) == 0 and not pdf.exists()
 
 
@@ -369,7 +371,7 @@ def test_sheets_drawn_in_parts_by_workers_join_into_the_same_pdf(study, tmp_path
             for t in tasks:
                 drawings.submit(t, nc.path)
             drawings.finish()
-            drawings.write_sheets(study, bundled_table_paths(), settings.project)
+            drawings.write_sheets(study, bundled_table_paths(), settings)
     finally:
         d.SHEETS_PER_TASK = old
     joined = tmp_path / "parts" / "sheets" / one.name
