@@ -20,6 +20,7 @@ from clearance.reports.results.routes import compare_runs
 from clearance.reports.study.routes import run_route_study
 from clearance.reports.study.run import run_study
 from clearance.vehicles.table import bundled_table_paths, load_tables
+from tests.reports.test_sheets import pdf_text
 
 REAL = Path(__file__).resolve().parents[3] / "shared" / "realnets"
 needs_real = pytest.mark.skipif(not REAL.is_dir(), reason="../shared/realnets/ is absent")
@@ -100,9 +101,12 @@ def test_report_and_check_along_a_line(tmp_path, capsys):
     args = ["-n", str(NET), "--routes", str(LINES), "--additional", str(TYPES),
             "--line", "bus_162", "--vehicle", "CITY-BUS", "--vehicle", "A-BUS",
             "--baseline", "CITY-BUS", "--lane-only", "--workers", "1"]
-    assert main(["report", *args, "-o", str(out)]) == 0
+    assert main(["report", *args, "-o", str(out), "--max-sheets", "2"]) == 0
     with open(out / "routes.csv", newline="") as fh:
         rows = list(csv.DictReader(fh))
+    # the baseline is the ghost of the other vehicles' sheets
+    sheets = " ".join(pdf_text(out / "sheets" / f"{NET.name.split('.')[0]}.pdf").split())
+    assert "A-BUS" in sheets and "CITY-BUS for comparison" in sheets
     assert {r["route_id"] for r in rows} == {"bus_162"}
     assert {r["vs_baseline"] for r in rows if r["vehicle"] == "CITY-BUS"} == {"baseline"}
     summary = json.loads((out / "summary.json").read_text())
