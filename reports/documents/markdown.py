@@ -12,6 +12,7 @@ import math
 import re
 from pathlib import Path
 
+from clearance.reports.documents.not_clear import not_clear_first, not_clear_for
 from clearance.reports.documents.report import (
     SYMBOL,
     TIGHT_M,
@@ -20,6 +21,7 @@ from clearance.reports.documents.report import (
     margin_words,
     run_words,
 )
+from clearance.reports.documents.wording import margins_words, rests_words
 from clearance.reports.results.feedback import serves_markdown
 from clearance.reports.results.text_table import counted
 from clearance.reports.results.units import length_scale, text_in_units
@@ -96,6 +98,27 @@ def _md_head(study: Study, sections: list[Section], units: str) -> list[str]:
             "Symbols in the matrices: ✓ clear, ~ encroaches, ✗ fails, ⊘ cannot-turn"
             + ("; (waived): accepted by a waiver, listed with its reason under each "
                "network." if any(x.waived for x in sections) else "."), ""]
+
+
+def _md_not_clear(sections: list[Section], units: str) -> list[str]:
+    """Every curve not clear, worst first over the networks, as report.html opens
+    (:mod:`clearance.reports.documents.not_clear`): a row per curve with its worst run."""
+    rows = not_clear_first((s.name, c.curve_id, c.runs) for s in sections for c in s.curves)
+    lines = ["## Not clear, worst first", ""]
+    if not rows:
+        return lines + ["Every vehicle clears every curve.", ""]
+    lines += [f"{counted(len(rows), 'curve')} not clear for at least one vehicle, the worst "
+              "first: by the verdict of its worst run, then by that run's margin to its "
+              "lanes.", "",
+              "| # | network | curve | worst run | verdict | margins | not clear for | "
+              "the worst run rests on |", "|" + "---|" * 8]
+    for i, r in enumerate(rows, start=1):
+        w = r.worst
+        lines.append(f"| {i} | {_md_cell(r.network)} | {_md_code(r.curve_id)} | "
+                     f"{_md_cell(w.vehicle)} | {w.verdict} | "
+                     f"{_md_cell(margins_words(w, units))} | {_md_cell(not_clear_for(r))} | "
+                     f"{_md_cell(rests_words(getattr(w, 'geometry', ''), units))} |")
+    return lines + [""]
 
 
 def _md_overview(s: Section, folder: Path) -> list[str]:
@@ -236,7 +259,7 @@ def _md_files() -> list[str]:
 
 def markdown(study: Study, sections: list[Section], folder: Path, units: str = "m") -> str:
     """``report.md``: the same content as the HTML, figures linked as PNG (SVG beside)."""
-    lines = _md_head(study, sections, units)
+    lines = _md_head(study, sections, units) + _md_not_clear(sections, units)
     for s in sections:
         lines += _md_section(s, folder, units)
     lines += _md_files()

@@ -1,17 +1,22 @@
 """The report documents: ``report.html`` (one self-contained file) and ``report.md``.
 
-Per network: the verdict counts, a plan with the worst curves marked, a vehicle × curve
-matrix of verdicts and margins, and for each failing or tight curve a figure of the swept
-paths over the lanes, the junction and the curbs. The HTML embeds its figures (PNG as data
-URIs) and references nothing outside itself; the Markdown links the PNG files written
-beside it (SVG versions are there too).
+``report.html`` opens with every curve that is not clear, worst first over the networks
+(:mod:`clearance.reports.documents.not_clear`). Then per network: the verdict counts, a
+plan with the worst curves marked, a vehicle × curve matrix of verdicts and margins
+(folded), and for each failing or tight curve a section with its runs in words and a figure
+of the swept paths over the lanes, the junction and the curbs. The worst curves' sections
+are open with their figures; the figures embedded stay within a budget of bytes
+(:mod:`clearance.reports.documents.embedding`), and the other failing curves' sections and
+the tight ones' are folded in ``<details>`` (no script: a click or a link opens them,
+and they print open). The HTML embeds its figures (PNG as data URIs) and references
+nothing outside itself; the Markdown links the PNG files written beside it (SVG versions
+are there too).
 """
 
 from __future__ import annotations
 
 import hashlib
 import html
-import math
 import re
 from collections import Counter
 from collections.abc import Callable, Sequence
@@ -21,9 +26,24 @@ from pathlib import Path
 import pandas as pd
 
 from clearance.networks.curves import Curve
+from clearance.reports.documents.embedding import FIGURE_BYTES, embed_within, figure_img
 from clearance.reports.documents.figures import COLOURS, plot_curve, plot_network, worst_by_curve
-from clearance.reports.documents.html_images import img_tag
+from clearance.reports.documents.not_clear import (
+    NOT_CLEAR_ID,
+    NotClear,
+    not_clear_first,
+    not_clear_html,
+    run_rank,
+)
 from clearance.reports.documents.profile_figure import VerticalEntry, vertical_entries
+from clearance.reports.documents.wording import (
+    SYMBOL,
+    VERDICT_CLASS,
+    cell_margin,
+    margin_words,
+    run_words,
+    short_id,
+)
 from clearance.reports.output.file_names import file_name
 from clearance.reports.results.feedback import (
     serves_counts,
@@ -32,16 +52,17 @@ from clearance.reports.results.feedback import (
     size_order,
 )
 from clearance.reports.results.provenance import provenance_summary
-from clearance.reports.results.records import RunRecord
+from clearance.reports.results.records import VERDICT_ORDER, RunRecord
 from clearance.reports.results.text_table import counted
 from clearance.reports.results.units import length_scale, text_in_units
 from clearance.reports.results.vertical import vertical_words
 from clearance.reports.results.waivers import Waived
-from clearance.reports.study.run import VERDICT_ORDER, NetworkCurves, Study
+from clearance.reports.study.run import NetworkCurves, Study
 
 __all__ = ["CSS", "CurveEntry", "MATRIX_VEHICLES", "MAX_CURVE_FIGURES", "MAX_ENVELOPES",
-           "SYMBOL", "Section", "TIGHT_M", "anchor", "build_sections", "html_document",
-           "cell_margin", "margin_words", "pick_envelopes", "run_words"]
+           "SYMBOL", "Section", "TIGHT_M", "anchor", "build_sections", "cell_margin",
+           "figure_order", "fold", "html_document", "is_not_clear", "margin_words",
+           "pick_envelopes", "run_words"]
 
 #: A curve is *tight* when its smallest margin is below this (m) though clear.
 TIGHT_M = 0.25
@@ -50,9 +71,6 @@ TIGHT_M = 0.25
 MAX_CURVE_FIGURES = 60
 #: At most this many envelopes in one curve figure (the worst vehicles).
 MAX_ENVELOPES = 4
-
-SYMBOL = {"clear": "✓", "encroaches": "~", "fails": "✗", "cannot-turn": "⊘", "error": "!"}
-
 
 @dataclass
 class CurveEntry:
@@ -269,59 +287,26 @@ def pick_envelopes(records: list, limit: int = MAX_ENVELOPES) -> list:
     return sorted(chosen, key=lambda r: records.index(r))
 
 
-def cell_margin(text: str) -> str:
-    """A matrix cell's margin: signed, two decimals; "n/a" when the run has none."""
-    value = float(text)
-    return f"{value:+.2f}" if math.isfinite(value) else "n/a"
-
-
-def margin_words(m: float, units: str = "m", what: str = "its lanes") -> str:
-    """A margin in words: how far inside or beyond ``what``.
-
-    Examples
-    --------
-    >>> margin_words(-0.2749), margin_words(0.41)
-    ('0.27 m beyond its lanes', '0.41 m inside its lanes')
-    >>> margin_words(float("nan"))
-    'no margin (the run did not get through)'
-    >>> margin_words(0.001, "m", "the pavement"), margin_words(-1.0, "ft")
-    ('0.00 m inside the pavement', '3.28 ft beyond its lanes')
-    """
-    if not math.isfinite(m):
-        return "no margin (the run did not get through)"
-    value = abs(m) / length_scale(units)
-    return f"{value:.2f} {units} {'beyond' if m < 0 else 'inside'} {what}"
-
-
-def run_words(r, units: str = "m") -> str:
-    """One run for a caption: vehicle, verdict, lane margin and paved margin in words, and
-    for a swung or not clear run its reason (the path it took, how far it reaches beyond
-    which area, where the worst overreach is and the extra width there)."""
-    paved = getattr(r, "paved_margin_m", math.nan)
-    text = f"{r.vehicle}: {r.verdict}, {margin_words(r.margin_m, units)}"
-    if math.isfinite(paved):
-        text += f", {margin_words(paved, units, 'the pavement')}"
-    reason = getattr(r, "reason", "")
-    if reason and (getattr(r, "path", "lane") == "swung" or r.verdict != "clear"):
-        text += f": {text_in_units(reason, units)}"
-    where = getattr(r, "conflict_at", "")
-    if where and r.verdict != "clear":
-        text += f"; worst conflict {text_in_units(where, units)}"
-    rests = getattr(r, "geometry", "")
-    if rests and rests != "data" and r.verdict != "clear":
-        text += f"; rests on {text_in_units(rests, units)}"
-    return text
-
+#: Each verdict's cells (:data:`~clearance.reports.documents.wording.VERDICT_CLASS`) in the
+#: verdict's colour, light.
+_VERDICT_CSS = "".join(f"td.{VERDICT_CLASS[v]}{{background:{c}33}}\n" for v, c in COLOURS.items())
 
 CSS = """
 body{font-family:system-ui,sans-serif;max-width:1200px;margin:1.5em auto;padding:0 1em;
 color:#222;line-height:1.4}
 nav.toc{border:1px solid #ddd;padding:0.5em 1em;background:#fafafa}
 nav.toc ol{margin:0.2em 0}
+nav.toc p{margin:0.2em 0;font-size:12px;color:#444}
 table{border-collapse:collapse;font-size:12px;margin:0.5em 0}
 th,td{border:1px solid #ccc;padding:2px 5px;text-align:right}
 th{background:#f2f2f2}
 td.id,th.id{text-align:left;font-family:monospace;white-space:nowrap}
+td.tx{text-align:left}
+.first{overflow:auto;max-height:60vh;border:1px solid #ddd}
+.first table{margin:0}
+.first thead th{position:sticky;top:0;z-index:1;text-align:left}
+.first td{white-space:nowrap}
+.first td.wrap{white-space:normal;text-align:left;min-width:12em}
 .matrix{overflow:auto;max-width:100%;max-height:85vh}
 .matrix table{margin:0}
 .matrix thead th{position:sticky;top:0;z-index:2}
@@ -331,8 +316,14 @@ td.id,th.id{text-align:left;font-family:monospace;white-space:nowrap}
 font-size:11px;text-align:center;vertical-align:bottom}
 .matrix td a{color:inherit;text-decoration:none;display:block}
 .matrix td a:hover{text-decoration:underline}
+details.fold{margin:0.8em 0;padding:0.2em 0.8em;border:1px solid #ddd;background:#fcfcfc}
+details.fold>summary{cursor:pointer;padding:0.2em 0}
+details.runs>summary{cursor:pointer;padding-left:0.3em}
+summary h3{display:inline;font-size:1.05em}
 img{max-width:100%;height:auto}
 figure{margin:1em 0}
+figure.curve,figure.profile{display:flex;flex-wrap:wrap;gap:0 1.5em;align-items:flex-start}
+figure.curve figcaption,figure.profile figcaption{flex:1 1 20em}
 figcaption{font-size:12px;color:#444}
 figcaption ul{margin:0.3em 0;padding-left:1.2em}
 .summary{font-size:14px}
@@ -340,16 +331,19 @@ figcaption ul{margin:0.3em 0;padding-left:1.2em}
 body{max-width:none;margin:0;font-size:10pt}
 nav.toc{break-after:page}
 h2{break-before:page}
-.matrix{overflow:visible;max-height:none}
+.first,.matrix{overflow:visible;max-height:none}
+.first{border:0}
 .matrix thead{display:table-header-group}
 .matrix{break-inside:avoid}
-.matrix thead th,.matrix th.id,.matrix td.id{position:static}
+.first thead th,.matrix thead th,.matrix th.id,.matrix td.id{position:static}
 .matrix table{font-size:7pt}
 .matrix td{white-space:nowrap;padding:1px 3px}
+details::details-content{content-visibility:visible;display:block}
+details.fold{border:0;padding:0}
 tr,figure{break-inside:avoid}
 a{color:inherit;text-decoration:none}
 }
-"""
+""" + _VERDICT_CSS
 
 #: Matrix columns (vehicles) per table: wider matrices are split into several tables, each
 #: with the curve names, so that each fits a screen and a printed page.
@@ -372,6 +366,20 @@ def anchor(network: str, curve_id: str | None = None) -> str:
     return f"{'net' if curve_id is None else 'curve'}-{safe}-{digest}"
 
 
+def is_not_clear(c: CurveEntry) -> bool:
+    """Whether a vehicle does not clear the curve (else it is tight: clear, with less
+    than :data:`TIGHT_M` to spare)."""
+    return any(r.verdict != "clear" for r in c.runs)
+
+
+def fold(summary: str, body: Sequence[str], kind: str = "fold") -> str:
+    """``body`` in a ``<details>`` of class ``kind`` that is closed until its ``summary``
+    is clicked (or a link leads into it): it takes no room on the page, needs no script,
+    and prints open (``CSS``)."""
+    return (f'<details class="{kind}"><summary>{summary}</summary>' + "".join(body)
+            + "</details>")
+
+
 def _summary_html(s: Section, units: str) -> str:
     e = html.escape
     not_clear = sum(v for k, v in s.counts.items() if k not in ("clear", "waived"))
@@ -384,28 +392,10 @@ def _summary_html(s: Section, units: str) -> str:
     return f'<p class="summary">{text}.</p>'
 
 
-#: A curve id longer than this many characters is shortened in the matrix (the full id on
-#: hover): a 190-character OSM cluster id pushed every verdict column off the screen.
-MAX_ID_CHARS = 48
-
-
-def short_id(curve_id: str, limit: int = MAX_ID_CHARS) -> str:
-    """``curve_id`` shortened in its middle to ``limit`` characters, its kind and junction
-    start and its lanes' end kept.
-
-    >>> short_id("turn:cluster_1_2_3_4_5_6_7_8_9:a_0->b_0", 24)
-    'turn:cluster_1…:a_0->b_0'
-    >>> short_id("turn:J:a_0->b_0")
-    'turn:J:a_0->b_0'
-    """
-    if len(curve_id) <= limit:
-        return curve_id
-    tail = curve_id[curve_id.rfind(":"):] if ":" in curve_id else ""
-    tail = tail if len(tail) < limit // 2 else tail[-(limit // 2):]
-    return curve_id[:limit - len(tail) - 1] + "…" + tail
-
-
 def _matrix_html(s: Section, links: dict[str, str]) -> list[str]:
+    """The vehicle × curve matrix in tables of at most :data:`MATRIX_VEHICLES` vehicles;
+    each cell the verdict's sign and class and the margin, linked to the curve's
+    section."""
     e = html.escape
     out = []
     vehicles = list(s.matrix.columns)
@@ -420,15 +410,14 @@ def _matrix_html(s: Section, links: dict[str, str]) -> list[str]:
         for cid, row in s.matrix[chunk].iterrows():
             href = links[str(cid)]
             cells = []
-            for vehicle, c in zip(chunk, row, strict=True):
+            for c in row:
                 if not isinstance(c, str):
                     cells.append("<td>–</td>")
                     continue
                 verdict, margin, *w = c.split("|")
-                tip = f"{vehicle}: {verdict}" + (", waived" if w else "")
-                cells.append(f'<td style="background:{COLOURS[verdict]}33">'
-                             f'<a href="#{href}" title="{e(tip)}">{SYMBOL[verdict]} '
-                             f"{cell_margin(margin)}{' (waived)' if w else ''}</a></td>")
+                cells.append(f'<td class="{VERDICT_CLASS[verdict]}"><a href="#{href}">'
+                             f"{SYMBOL[verdict]} {cell_margin(margin)}"
+                             f"{' (waived)' if w else ''}</a></td>")
             out.append(f'<tr><td class="id" title="{e(str(cid))}"><a href="#{href}">'
                        f'{e(short_id(str(cid)))}</a></td>{"".join(cells)}</tr>')
         out.append("</tbody></table></div>")
@@ -446,15 +435,29 @@ def _vertical_html(s: Section, units: str) -> list[str]:
                "overhangs), and the grade against the limit; the figure draws the worst "
                "vehicle at its worst placement.</p>")
     for v in s.vertical:
-        runs = "".join(f"<li>{e(r.vehicle)}: {e(vertical_words(r, units) or 'clear')}</li>"
-                       for r in v.runs)
+        runs = _vertical_runs_html(v.runs, units)
         head = f"<h4><code>{e(v.curve_id)}</code> (vertical)</h4>"
         if v.figure is not None:
-            out.append(f"{head}<figure>{img_tag(v.figure, v.curve_id + ' profile')}"
-                       f"<figcaption><ul>{runs}</ul></figcaption></figure>")
+            out.append(f'{head}<figure class="profile">'
+                       f"{figure_img(v.figure, v.curve_id + ' profile')}"
+                       f"<figcaption>{runs}</figcaption></figure>")
         else:
-            out.append(f"{head}<ul>{runs}</ul>")
+            out.append(f"{head}{runs}")
     return out
+
+
+def _vertical_runs_html(runs: list, units: str) -> str:
+    """A curve's vertical findings, worst first, then the vehicles with nothing to say
+    (clear), folded when there are more than :data:`MAX_CLEAR_LISTED` of them."""
+    e = html.escape
+    said = [(r, vertical_words(r, units)) for r in runs]
+    found = "".join(f"<li>{e(r.vehicle)}: {e(w)}</li>" for r, w in said if w)
+    clear = [f"<li>{e(r.vehicle)}: clear</li>" for r, w in said if not w]
+    if len(clear) <= MAX_CLEAR_LISTED:
+        return f"<ul>{found}{''.join(clear)}</ul>"
+    return ((f"<ul>{found}</ul>" if found else "")
+            + fold(f"{'and ' if found else ''}{counted(len(clear), 'vehicle')} clear",
+                   [f"<ul>{''.join(clear)}</ul>"], kind="runs"))
 
 
 def _head_html(study: Study, sections: list[Section], units: str) -> list[str]:
@@ -478,17 +481,22 @@ def _head_html(study: Study, sections: list[Section], units: str) -> list[str]:
             "to the pavement's edge.</p>"]
 
 
-def _toc_html(sections: list[Section]) -> list[str]:
-    """The contents list: per network its section, its matrix and its curves; the files."""
+def _toc_html(sections: list[Section], not_clear: int) -> list[str]:
+    """The contents list: what is not clear, then per network its section, its matrix and
+    its curves; the files; and how to open the folded parts."""
     e = html.escape
-    toc = ['<nav class="toc" aria-label="Contents"><b>Contents</b><ol>']
+    toc = ['<nav class="toc" aria-label="Contents"><b>Contents</b><ol>',
+           f'<li><a href="#{NOT_CLEAR_ID}">Not clear, worst first</a> '
+           f"({counted(not_clear, 'curve')})</li>"]
     for s in sections:
         net = anchor(s.name)
         toc.append(f'<li><a href="#{net}">{e(s.name)}</a> — '
                    f'<a href="#{net}-matrix">matrix</a>'
                    + (f', <a href="#{net}-curves">{counted(len(s.curves), "curve")}</a>'
                       if s.curves else "") + "</li>")
-    toc.append('<li><a href="#files">Files</a></li></ol></nav>')
+    toc.append('<li><a href="#files">Files</a></li></ol><p>A part marked ▸ (each matrix, '
+               "the curves without a figure here, the tight ones) is folded: click it, or a "
+               "link into it, to open it; Chrome and Edge print it open.</p></nav>")
     return toc
 
 
@@ -523,8 +531,8 @@ def _overview_html(s: Section, units: str, links: dict[str, str]) -> list[str]:
     out.append("<table><tr>" + "".join(f"<th>{e(k)}</th>" for k in s.counts)
                + "</tr><tr>" + "".join(f"<td>{v}</td>" for v in s.counts.values())
                + "</tr></table>")
-    out.append(f"<figure>{img_tag(s.plan, 'plan of ' + s.name, lazy=False)}<figcaption>Plan "
-               f"of {e(s.name)}: each curve coloured by its worst verdict; the worst "
+    out.append(f"<figure>{figure_img(s.plan, 'plan of ' + s.name, lazy=False)}<figcaption>"
+               f"Plan of {e(s.name)}: each curve coloured by its worst verdict; the worst "
                "curves numbered as in the list below.</figcaption></figure>")
     out += [f"<p>{e(t)}</p>" for t in s.notes]
     out += [f'<p class="lost">{e(t)}</p>' for t in s.lost]
@@ -532,14 +540,21 @@ def _overview_html(s: Section, units: str, links: dict[str, str]) -> list[str]:
     return out
 
 
-def _matrix_head_html(s: Section, units: str) -> str:
-    """The heading of a section's vehicle × curve matrix and how to read its cells."""
-    return (f'<h3 id="{anchor(s.name)}-matrix">Vehicle × curve matrix</h3><p>'
-            f"{counted(len(s.matrix), 'failing or tight curve')}; "
+def _matrix_section_html(s: Section, units: str, links: dict[str, str]) -> list[str]:
+    """A section's vehicle × curve matrix, folded, with how to read its cells (unfolded
+    when it has no row: then only the sentence)."""
+    heading = f'<h3 id="{anchor(s.name)}-matrix">Vehicle × curve matrix</h3>'
+    spare = text_in_units(f"{TIGHT_M} m", units)
+    text = (f"{counted(len(s.matrix), 'failing or tight curve')}; "
             f"{counted(s.all_clear, 'curve')} clear for every vehicle with at least "
-            f"{text_in_units(f'{TIGHT_M} m', units)} to spare left out. Each cell: the "
-            "verdict (✓ clear, ~ encroaches, ✗ fails, ⊘ cannot-turn) and the margin to "
-            "the own lanes; click it for the curve.</p>")
+            f"{spare} to spare left out.")
+    if not len(s.matrix):
+        return [heading, f"<p>{text}</p>"]
+    how = ("<p>Each cell: the verdict (✓ clear, ~ encroaches, ✗ fails, ⊘ cannot-turn) and "
+           "the margin to the own lanes; click it for the curve.</p>")
+    return [fold(f"{heading} {counted(len(s.matrix), 'curve')} × "
+                 f"{counted(len(s.matrix.columns), 'vehicle')}",
+                 [f"<p>{text}</p>", how, *_matrix_html(s, links)])]
 
 
 def _waived_html(s: Section, units: str) -> list[str]:
@@ -558,56 +573,101 @@ def _waived_html(s: Section, units: str) -> list[str]:
     return out
 
 
-def _curves_html(s: Section, units: str, links: dict[str, str]) -> list[str]:
-    """The section's failing and tight curves: each with its figure (or why it has none)
-    and every vehicle's run in words, worst first."""
+#: A curve's section lists at most this many clear runs below those not clear; more are
+#: folded under a line naming the closest (a study of 37 vehicles lists 25 clear runs).
+MAX_CLEAR_LISTED = 3
+
+
+def _runs_html(c: CurveEntry, units: str) -> str:
+    """Every vehicle's run on a curve in words, worst first: those not clear in a list,
+    then the clear ones, folded when there are more than :data:`MAX_CLEAR_LISTED` of them
+    beside runs not clear."""
     e = html.escape
-    out = []
-    if s.curves:
-        out.append(f'<h3 id="{anchor(s.name)}-curves">Failing and tight curves</h3>')
-    for c in s.curves:
-        runs = "".join(f"<li>{e(run_words(r, units))}"
+
+    def items(runs: list) -> str:
+        return "".join(f"<li>{e(run_words(r, units))}"
                        + (" (drawn)" if r.vehicle in c.drawn else "") + "</li>"
-                       for r in c.runs)
-        head = f'<h4 id="{links[c.curve_id]}"><code>{e(c.curve_id)}</code></h4>'
-        if c.serves:
-            head += f'<p class="serves">{e(c.serves)}</p>'
-        if c.figure is not None:
-            out.append(f"{head}<figure>{img_tag(c.figure, c.curve_id)}<figcaption>"
-                       f"<code>{e(c.curve_id)}</code>, every vehicle worst first (the "
-                       f"figure draws {counted(len(c.drawn), 'envelope')}):"
-                       f"<ul>{runs}</ul></figcaption></figure>")
-        elif c.missing:
-            out.append(f"{head}<p>{e(c.missing)} Every vehicle worst first:</p>"
-                       f"<ul>{runs}</ul>")
-        else:
-            out.append(f"{head}<p>No figure (beyond the first {MAX_CURVE_FIGURES} of "
-                       f"the network); every vehicle worst first:</p><ul>{runs}</ul>")
+                       for r in runs)
+    bad = [r for r in c.runs if r.verdict != "clear"]
+    clear = [r for r in c.runs if r.verdict == "clear"]
+    if not bad or len(clear) <= MAX_CLEAR_LISTED:
+        return f"<ul>{items(c.runs)}</ul>"
+    closest = min(clear, key=run_rank)
+    return (f"<ul>{items(bad)}</ul>" + fold(
+        f"and {counted(len(clear), 'vehicle')} clear, the closest {e(closest.vehicle)} "
+        f"({e(margin_words(closest.margin_m, units))})", [f"<ul>{items(clear)}</ul>"],
+        kind="runs"))
+
+
+def _curve_html(c: CurveEntry, units: str, target: str, embedded: dict[Path, str]) -> str:
+    """One curve's section: its heading, what it serves, its figure (embedded, or the file
+    it is in, or why it has none) and every vehicle's run in words, worst first
+    (:func:`_runs_html`)."""
+    e = html.escape
+    runs = _runs_html(c, units)
+    head = f'<h4 id="{target}"><code>{e(c.curve_id)}</code></h4>'
+    if c.serves:
+        head += f'<p class="serves">{e(c.serves)}</p>'
+    if c.figure is not None and c.figure in embedded:
+        return (f'{head}<figure class="curve">{embedded[c.figure]}<figcaption>'
+                f"<code>{e(c.curve_id)}</code>, every vehicle worst first (the figure draws "
+                f"{counted(len(c.drawn), 'envelope')}):{runs}</figcaption></figure>")
+    if c.missing:
+        return f"{head}<p>{e(c.missing)} Every vehicle worst first:</p>{runs}"
+    if c.figure is not None:
+        return (f"{head}<p>Figure not on this page (it embeds the worst curves' figures "
+                f"only): <code>figures/{e(c.figure.name)}</code>, drawing "
+                f"{counted(len(c.drawn), 'envelope')}; every vehicle worst first:</p>{runs}")
+    return (f"{head}<p>No figure (beyond the first {MAX_CURVE_FIGURES} of the network); "
+            f"every vehicle worst first:</p>{runs}")
+
+
+def _curves_html(s: Section, units: str, links: dict[str, str],
+                 embedded: dict[Path, str]) -> list[str]:
+    """The section's failing and tight curves: open, those not clear whose figure the page
+    embeds (or says was lost), worst first; folded, the other curves not clear and the
+    tight ones."""
+    if not s.curves:
+        return []
+    failing = [c for c in s.curves if is_not_clear(c)]
+    shown = [c for c in failing if c.missing or (c.figure is not None and c.figure in embedded)]
+    rest = [c for c in failing if all(c is not d for d in shown)]
+    tight = [c for c in s.curves if not is_not_clear(c)]
+    out = [f'<h3 id="{anchor(s.name)}-curves">Failing and tight curves</h3>']
+    out += [_curve_html(c, units, links[c.curve_id], embedded) for c in shown]
+    if rest:
+        out.append(fold(f"{counted(len(rest), 'more curve')} not clear, without a figure "
+                        "here: every vehicle's run in words",
+                        [_curve_html(c, units, links[c.curve_id], embedded) for c in rest]))
+    if tight:
+        spare = text_in_units(f"{TIGHT_M} m", units)
+        out.append(fold(f"{counted(len(tight), 'tight curve')}: clear for every vehicle, "
+                        f"with less than {spare} to spare",
+                        [_curve_html(c, units, links[c.curve_id], embedded) for c in tight]))
     return out
 
 
 def _swung_html(s: Section, units: str) -> list[str]:
-    """The swung runs on the curves without a section of their own (nothing when none)."""
+    """The swung runs on the curves without a section of their own, folded (nothing when
+    none)."""
     e = html.escape
     if not s.swung:
         return []
-    return [f"<h3>Swung paths on the other curves ({len(s.swung)})</h3><p>Runs "
-            "that clear with room to spare only by swinging wide:</p><ul>"
-            + "".join(f"<li><code>{e(r.curve_id)}</code>: "
-                      f"{e(run_words(r, units))}</li>" for r in s.swung)
-            + "</ul>"]
+    return [fold(f"<h3>Swung paths on the other curves ({len(s.swung)})</h3>",
+                 ["<p>Runs that clear with room to spare only by swinging wide:</p><ul>"
+                  + "".join(f"<li><code>{e(r.curve_id)}</code>: "
+                            f"{e(run_words(r, units))}</li>" for r in s.swung)
+                  + "</ul>"])]
 
 
-def _section_html(s: Section, units: str) -> list[str]:
+def _section_html(s: Section, units: str, embedded: dict[Path, str]) -> list[str]:
     """One network's part of ``report.html``, from its heading to the link back to the
     contents."""
     links = {c.curve_id: anchor(s.name, c.curve_id) for c in s.curves}
     out = _overview_html(s, units, links)
-    out.append(_matrix_head_html(s, units))
-    if len(s.matrix):
-        out += _matrix_html(s, links)
+    out += _matrix_section_html(s, units, links)
     out += _waived_html(s, units)
-    out += _curves_html(s, units, links)
+    out += _curves_html(s, units, links, embedded)
     out += _vertical_html(s, units)
     out += _swung_html(s, units)
     out.append('<p><a href="#top">Back to the contents</a></p>')
@@ -623,7 +683,8 @@ def _files_html(exports: dict[str, dict[str, str]] | None) -> list[str]:
            "<li><code>summary.json</code>: counts by verdict per network and vehicle, "
            "inputs with SHA-256, versions</li>"
            "<li><code>figures/</code>: every figure as PNG and SVG at full resolution "
-           "(this page embeds smaller copies)</li>"]
+           "(this page embeds smaller copies of the plans and of the worst curves' "
+           "figures)</li>"]
     for name, files in (exports or {}).items():
         out.append(f"<li>{e(name)}: <code>exports/{e(files['sumo'])}</code> (<code>sumo-gui "
                    f"-n NET -a exports/{e(files['sumo'])}</code>), "
@@ -633,15 +694,47 @@ def _files_html(exports: dict[str, dict[str, str]] | None) -> list[str]:
     return out
 
 
+def figure_order(sections: list[Section], ranked: list[NotClear]) -> list[tuple[Path, str]]:
+    """The curve figures in the order ``report.html`` embeds them until its budget is spent
+    (:func:`clearance.reports.documents.embedding.embed_within`): each network's worst
+    curve that has a figure, then every curve not clear worst first (``ranked``), then the
+    tight ones worst first; each once, as its PNG and alternative text."""
+    by_key = {(s.name, c.curve_id): c for s in sections for c in s.curves}
+    failing = [by_key[r.network, r.curve_id] for r in ranked]
+    firsts: dict[str, CurveEntry] = {}  # network: its worst curve with a figure
+    for r, c in zip(ranked, failing, strict=True):
+        if c.figure is not None:
+            firsts.setdefault(r.network, c)
+    tight = sorted((c for s in sections for c in s.curves if not is_not_clear(c)),
+                   key=lambda c: min(map(run_rank, c.runs)))
+    chosen = {id(c): c for c in [*firsts.values(), *failing, *tight] if c.figure is not None}
+    return [(c.figure, c.curve_id) for c in chosen.values() if c.figure is not None]
+
+
 def html_document(study: Study, sections: list[Section], units: str = "m",
                   exports: dict[str, dict[str, str]] | None = None,
-                  first: Sequence[str] = ()) -> str:
+                  first: Sequence[str] = (), figure_bytes: int = FIGURE_BYTES) -> str:
     """``report.html``: one self-contained file (figures embedded, compact, no external
-    assets): a contents list, then per network a summary, the plan, the vehicle × curve
-    matrix (every cell linked to its curve's section) and a section per failing or tight
-    curve listing every vehicle's verdict and margins in words."""
-    out = _head_html(study, sections, units) + _toc_html(sections) + list(first)
+    assets): a contents list; every curve not clear, worst first, over the networks
+    (:mod:`clearance.reports.documents.not_clear`); then per network a summary, the plan,
+    the vehicle × curve matrix (folded; every cell linked to its curve's section) and a
+    section per failing or tight curve listing every vehicle's verdict and margins in
+    words. The worst curves' sections are open with their figures, within
+    ``figure_bytes`` of embedded figures (:func:`figure_order`); the other curves' are
+    folded, as are the tight ones'."""
+    ranked = not_clear_first((s.name, c.curve_id, c.runs) for s in sections for c in s.curves)
+    links = {(s.name, c.curve_id): anchor(s.name, c.curve_id)
+             for s in sections for c in s.curves}
+    embedded = embed_within(figure_order(sections, ranked), figure_bytes)
+    tight = sum(not is_not_clear(c) for s in sections for c in s.curves)
+    spare = text_in_units(f"{TIGHT_M} m", units)
+    tight_words = (f"{counted(tight, 'more curve')} clear with less than {spare} to spare: "
+                   "in the sections of their networks (folded)." if tight else "")
+    waived = {(s.name, cid, v) for s in sections for cid, v, *_ in s.waived}
+    out = (_head_html(study, sections, units) + _toc_html(sections, len(ranked))
+           + not_clear_html(ranked, links, units, len(sections), tight_words, waived)
+           + list(first))
     for s in sections:
-        out += _section_html(s, units)
+        out += _section_html(s, units, embedded)
     out += _files_html(exports)
     return "\n".join(out) + "\n"

@@ -46,10 +46,12 @@ def browser():
 
 @pytest.fixture(scope="module")
 def report(tmp_path_factory) -> Path:
-    net = next(p for p in sample_networks() if p.stem.startswith("intersection"))
+    """Two sample networks: the bus does not clear a dozen curves of the intersection and
+    two of the garage, and clears two more of the garage's with little to spare."""
+    nets = [p for p in sample_networks() if p.stem.startswith(("intersection", "garage"))]
     out = tmp_path_factory.mktemp("html") / "report"
-    assert main(["report", "-n", str(net), "-o", str(out), "--vehicle", "P", "--vehicle",
-                 "CITY-BUS", "--method", "analytic"]) == 0
+    assert main(["report", *(a for n in nets for a in ("-n", str(n))), "-o", str(out),
+                 "--vehicle", "P", "--vehicle", "CITY-BUS", "--method", "analytic"]) == 0
     return out / "report.html"
 
 
@@ -83,8 +85,12 @@ def test_the_report_opens_in_chromium(browser, report: Path, tmp_path: Path):
     assert got["images"] and all(i["ok"] for i in got["images"]), \
         [i["alt"] for i in got["images"] if not i["ok"]]
     assert got["cells"] > 0  # matrix cells are links to their curves
-    # a cell's link leads to the curve's section, which lists every vehicle of the curve
+    # the matrix is folded: its summary opens it, and a cell's link leads to the curve's
+    # section, which lists every vehicle of the curve
     first = page.locator(".matrix td a").first
+    assert not first.is_visible()
+    page.locator("details.fold:has(.matrix) > summary").first.click()
+    assert first.is_visible()
     target = first.get_attribute("href")
     first.click()
     page.wait_for_timeout(100)
@@ -97,14 +103,20 @@ def test_the_report_opens_in_chromium(browser, report: Path, tmp_path: Path):
     page.screenshot(path=str(shots / "report_top.png"))
     page.locator(".matrix").first.scroll_into_view_if_needed()
     page.screenshot(path=str(shots / "report_matrix.png"))
+    page.evaluate("document.querySelectorAll('details').forEach(d => d.open = false)")
     page.emulate_media(media="print")
     pdf_like = page.evaluate("getComputedStyle(document.querySelector('.matrix')).overflow")
     assert pdf_like == "visible"  # printed, the matrix is not clipped by a scroll box
+    # ... nor by its fold: closed on the screen, a folded part prints open
+    printed = page.evaluate("[...document.querySelectorAll('details.fold')].map("
+                            "d => d.getBoundingClientRect().height)")
+    assert printed and min(printed) > 100, printed
     assert (shots / "report_top.png").stat().st_size > 10_000
     page.close()
 
 
 STICKY = """() => {
+  document.querySelector('details.fold:has(.matrix)').open = true;
   const box = document.querySelector('.matrix');
   const head = box.querySelector('thead th');
   const first = box.querySelector('tbody td.id');
@@ -127,3 +139,61 @@ def test_matrix_headings_stay_in_view_when_it_scrolls(browser, report: Path):
     assert abs(got["before"]) < 2 and abs(got["after"]) < 2, got
     assert got["rowMoved"] < got["boxTop"]  # the first row went up under the heading
     assert got["idWidth"] < got["boxWidth"] / 2  # the curve column leaves room for verdicts
+
+
+LAYOUT = """() => {
+  const top = e => e.getBoundingClientRect().top + window.scrollY;
+  const height = () => document.documentElement.scrollHeight;
+  const folds = [...document.querySelectorAll('details.fold')];
+  const figures = [...document.querySelectorAll('figure.curve')]
+    .filter(f => !f.closest('details'));
+  const closed = {height: height(), folds: folds.map(d => d.getBoundingClientRect().height),
+                  list: top(document.querySelector('.first')),
+                  network: top(document.querySelector('h2[id^="net-"]')),
+                  figures: figures.reduce((a, f) => a + f.getBoundingClientRect().height, 0),
+                  networks: document.querySelectorAll('h2[id^="net-"]').length};
+  folds.forEach(d => d.open = true);
+  const opened = {height: height(), folds: folds.map(d => d.getBoundingClientRect().height)};
+  folds.forEach(d => d.open = false);
+  return {closed, opened};
+}"""
+
+
+def test_the_page_opens_with_what_is_not_clear_and_folds_the_rest(browser, report: Path):
+    """The first screen shows the list of what is not clear; the matrices and the tight
+    curves are folded, taking a line each until opened; the page's height is the worst
+    curves' figures and little else."""
+    page = browser.new_page(viewport={"width": 1280, "height": 900})
+    page.goto(report.as_uri(), wait_until="load")
+    got = page.evaluate(LAYOUT)
+    closed, opened = got["closed"], got["opened"]
+    assert closed["list"] < 900 - 100  # the list starts on the first screen
+    assert closed["list"] < closed["network"]
+    assert len(closed["folds"]) >= 3  # two matrices and the tight curves of the garage
+    assert max(closed["folds"]) < 60  # a folded part is its summary line
+    assert all(o > 150 for o in opened["folds"]), opened
+    grown = sum(opened["folds"]) - sum(closed["folds"])
+    assert opened["height"] - closed["height"] == pytest.approx(grown, abs=5)
+    # beside the open curves' figures, each network takes at most 3000 px (its summary,
+    # plan and worst curves) and the head and the list 1500 px
+    assert closed["figures"] > 0
+    assert closed["height"] - closed["figures"] < 1500 + 3000 * closed["networks"], closed
+    page.close()
+
+
+def test_a_link_into_a_folded_part_opens_it(browser, report: Path):
+    """The worst curves under a plan link to their sections, a tight one's folded: the
+    browser opens the fold and shows the section (no script)."""
+    page = browser.new_page(viewport={"width": 1280, "height": 900})
+    page.goto(report.as_uri(), wait_until="load")
+    target = page.evaluate("""() => [...document.querySelectorAll('details.fold h4[id]')]
+        .map(h => h.id).find(id => document.querySelector(`a[href="#${id}"]`
+                                                          + ':not(details a)'))""")
+    assert target, "no link outside a fold to a curve inside one"
+    heading = page.locator(f"[id='{target}']")
+    assert not heading.is_visible()
+    page.locator(f"a[href='#{target}']:not(details a)").first.click()
+    page.wait_for_timeout(100)
+    assert heading.is_visible()
+    assert page.evaluate(f"document.getElementById('{target}').closest('details').open")
+    page.close()
