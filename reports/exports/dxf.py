@@ -199,9 +199,28 @@ def _has_area(geom: Any) -> bool:
                                     for p in shapely.get_parts(geom))
 
 
-def _polygons(msp: Any, geom: Any, attribs: dict, tags: list | None, hatch: str | None
-              ) -> None:
-    """Closed polylines of every ring of ``geom`` (and a hatch of each part)."""
+class _At:
+    """Where a drawing's points go: SUMO's plane shifted by ``(dx, dy)`` (into the
+    projected CRS, :func:`_projection_shift`), rounded to the millimetre (no plan is drawn
+    finer: a DXF of 17-digit coordinates is twice the size for nothing).
+
+    >>> _At(1000.0, 0.0)([(0.12345, 1.0), (2.0, 3.99999)])
+    [(1000.123, 1.0), (1002.0, 4.0)]
+    """
+
+    def __init__(self, dx: float = 0.0, dy: float = 0.0) -> None:
+        self.dx, self.dy = dx, dy
+
+    def __call__(self, coords: Iterable) -> list[tuple[float, float]]:
+        xy = np.asarray([c[:2] for c in coords], dtype=float).reshape(-1, 2)
+        xy = np.round(xy + (self.dx, self.dy), 3)
+        return [(float(x), float(y)) for x, y in xy]
+
+
+def _polygons(msp: Any, geom: Any, attribs: dict, tags: list | None, hatch: str | None,
+              at: _At) -> None:
+    """Closed polylines of every ring of ``geom`` (and a hatch of each part), placed by
+    ``at``."""
     if geom is None or geom.is_empty:
         return
     parts = [p for p in shapely.get_parts(geom)
@@ -209,19 +228,17 @@ def _polygons(msp: Any, geom: Any, attribs: dict, tags: list | None, hatch: str 
     for part in polygon_parts(shapely.MultiPolygon(parts)) if parts else []:
         rings = [("exterior", part.exterior)] + [("hole", h) for h in part.interiors]
         for role, ring in rings:
-            points = [(float(x), float(y)) for x, y, *_ in ring.coords[:-1]]
+            points = at(ring.coords[:-1])
             line = msp.add_lwpolyline(points, format="xy", close=True, dxfattribs=attribs)
             if tags is not None:
                 line.set_xdata(APPID, [*tags, (1000, f"ring={role}")])
         if hatch is not None:
             h = msp.add_hatch(dxfattribs={"layer": attribs["layer"]})
             h.set_pattern_fill(hatch, scale=0.5)
-            h.paths.add_polyline_path(
-                [(float(x), float(y)) for x, y, *_ in part.exterior.coords[:-1]], is_closed=True,
-                flags=ezdxf.const.BOUNDARY_PATH_EXTERNAL)
+            h.paths.add_polyline_path(at(part.exterior.coords[:-1]), is_closed=True,
+                                      flags=ezdxf.const.BOUNDARY_PATH_EXTERNAL)
             for ring in part.interiors:
-                h.paths.add_polyline_path(
-                    [(float(x), float(y)) for x, y, *_ in ring.coords[:-1]], is_closed=True)
+                h.paths.add_polyline_path(at(ring.coords[:-1]), is_closed=True)
 
 
 def write_dxf(path: str | os.PathLike[str], records: Iterable[EnvelopeRecord],
@@ -267,32 +284,31 @@ def write_dxf(path: str | os.PathLike[str], records: Iterable[EnvelopeRecord],
     recs = checked_records(records)
     doc = _new_drawing()
     msp = doc.modelspace()
+    shift = _place_in_projection(doc, network)
+    at = _At(*shift)
     bounds = []
     if network is not None:
-        bounds.append(_draw_base_plan(doc, msp, network, recs))
+        bounds.append(_draw_base_plan(doc, msp, network, recs, at))
     layers = _add_vehicle_layers(doc, recs)
     for r in recs:
-        _draw_record(msp, r, layers[r.vehicle])
+        _draw_record(msp, r, layers[r.vehicle], at)
     if recs:
         bounds.append(shapely.total_bounds([r.envelope for r in recs]))
-    shift = _place_in_projection(doc, network)
     _set_extents(doc, [b + np.array([*shift, *shift]) for b in bounds])
     return write_text_atomic(path, _reproducible_text(doc))
 
 
 def _place_in_projection(doc: Drawing, network: Network | None) -> tuple[float, float]:
-    """A network with a projection has its drawing moved into the projected CRS (SUMO's plane
+    """A network with a projection has its drawing placed in the projected CRS (SUMO's plane
     is that CRS less ``netOffset``), the CRS named in the header (custom property ``CRS``, a
     PROJ string) so that a CAD user's base map in that CRS and this drawing overlay; returns
-    the shift applied (0, 0 without a projection: SUMO's plane metres, as before)."""
+    the shift to apply (0, 0 without a projection: SUMO's plane metres, as before)."""
     if network is None:
         return 0.0, 0.0
     proj = (network.location.proj_parameter or "").strip()
     if proj in ("", "!"):
         return 0.0, 0.0
     dx, dy = (-float(v) for v in network.location.net_offset)
-    for entity in doc.modelspace():
-        entity.translate(dx, dy, 0.0)
     doc.header.custom_vars.append("CRS", proj)
     doc.header.custom_vars.append("SUMO_NET_OFFSET", " ".join(
         f"{float(v):.2f}" for v in network.location.net_offset))
@@ -326,7 +342,7 @@ def _new_drawing() -> Drawing:
 
 
 def _draw_base_plan(doc: Drawing, msp: Modelspace, network: Network,
-                    recs: list[EnvelopeRecord]) -> np.ndarray:
+                    recs: list[EnvelopeRecord], at: _At) -> np.ndarray:
     """The base layers and the base plan of ``network`` within :data:`BASE_MARGIN_M` of
     the envelopes (all of it without records); returns the plan's bounds (x0, y0, x1, y1;
     NaN when it is empty)."""
@@ -346,7 +362,7 @@ def _draw_base_plan(doc: Drawing, msp: Modelspace, network: Network,
         layer.description = description
         for xy in plan[name]:
             closed = len(xy) > 3 and bool((xy[0] == xy[-1]).all())
-            pts = [(float(x), float(y)) for x, y in (xy[:-1] if closed else xy)]
+            pts = at(xy[:-1] if closed else xy)
             msp.add_lwpolyline(pts, format="xy", close=closed, dxfattribs={"layer": name})
     return bounds
 
@@ -386,42 +402,43 @@ def _xdata_tags(r: EnvelopeRecord) -> list[tuple[int, str]]:
     ]
 
 
-def _draw_record(msp: Modelspace, r: EnvelopeRecord, prefix: str) -> None:
+def _draw_record(msp: Modelspace, r: EnvelopeRecord, prefix: str, at: _At) -> None:
     """Everything drawn for one record, on the layers of vehicle layer prefix ``prefix``."""
     tags = _xdata_tags(r)
     colour = VERDICT_ACI[r.verdict]
     for outline in r.body_outlines:
-        _polygons(msp, outline, {"layer": f"{prefix}-BODY"}, None, None)
+        _polygons(msp, outline, {"layer": f"{prefix}-BODY"}, None, None, at)
     for wheel in r.wheel_paths:
         for xy in _lines(wheel):
-            msp.add_lwpolyline([(float(x), float(y)) for x, y in xy], format="xy",
+            msp.add_lwpolyline(at(xy), format="xy",
                                dxfattribs={"layer": f"{prefix}-WHEEL-PATH"})
     if r.offset_m > 0:
         _polygons(msp, r.envelope, {"layer": f"{prefix}-CLEARANCE-ENVELOPE",
-                                    "color": colour}, tags, None)
+                                    "color": colour}, tags, None, at)
         if r.body_envelope is not None:
             _polygons(msp, r.body_envelope, {"layer": f"{prefix}-ENVELOPE",
-                                             "color": colour}, tags, None)
+                                             "color": colour}, tags, None, at)
     else:
         _polygons(msp, r.envelope, {"layer": f"{prefix}-ENVELOPE", "color": colour},
-                  tags, None)
-    _polygons(msp, r.outside_lanes, {"layer": f"{prefix}-CONFLICT-LANE"}, None, "ANSI31")
+                  tags, None, at)
+    _polygons(msp, r.outside_lanes, {"layer": f"{prefix}-CONFLICT-LANE"}, None, "ANSI31", at)
     _polygons(msp, r.outside_pavement, {"layer": f"{prefix}-CONFLICT-PAVEMENT"}, None,
-              "ANSI37")
+              "ANSI37", at)
     for part in polygon_parts(r.envelope):
         p = part.representative_point()
         text = msp.add_text(_text(r.curve_id), height=TEXT_HEIGHT_M,
                             dxfattribs={"layer": f"{prefix}-LABEL", "color": colour})
-        text.set_placement((p.x, p.y), align=TextEntityAlignment.MIDDLE_CENTER)
+        text.set_placement(at([(p.x, p.y)])[0], align=TextEntityAlignment.MIDDLE_CENTER)
         text.set_xdata(APPID, tags)
     if r.overreach is not None:
-        _draw_overreach(msp, r.overreach, f"{prefix}-OVERREACH", colour, tags)
+        _draw_overreach(msp, r.overreach, f"{prefix}-OVERREACH", colour, tags, at)
 
 
 def _draw_overreach(msp: Modelspace, overreach: tuple[float, float, float, float], layer: str,
-                    colour: int, tags: list[tuple[int, str]]) -> None:
+                    colour: int, tags: list[tuple[int, str]], at: _At) -> None:
     """A point at the worst overreach (x, y, station, extra width) and its ``+0.56 m`` label."""
     x, y, station, extra = (float(v) for v in overreach)
+    [(x, y)] = at([(x, y)])
     point = msp.add_point((x, y), dxfattribs={"layer": layer, "color": colour})
     point.set_xdata(APPID, tags + [(1000, f"station_m={station:.3f}"),
                                    (1000, f"extra_width_m={extra:.3f}")])
