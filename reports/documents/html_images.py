@@ -1,7 +1,8 @@
 """The figures of ``report.html``, made small: compact PNG copies embedded as data URIs.
 
-``report.html`` embeds every figure (:mod:`clearance.reports.documents.report`); a full-resolution
-PNG would make the file tens of megabytes, so each is scaled down to :data:`HTML_IMAGE_WIDTH_PX` and
+``report.html`` embeds its plans and its worst curves' figures, up to a budget
+(:mod:`clearance.reports.documents.embedding`); a full-resolution PNG would make the file tens
+of megabytes, so each is scaled down to :data:`HTML_IMAGE_WIDTH_PX` and
 quantised to :data:`HTML_IMAGE_COLOURS` colours (:func:`compact_png`). The full PNG and the
 SVG stay in ``figures/``. A worker that drew a figure makes its compact copy where the PNG
 is (``clearance.reports.cli.report.curve_figure_files``) and the report's process keeps it in
