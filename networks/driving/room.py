@@ -15,7 +15,8 @@ from shapely.geometry.base import BaseGeometry
 
 from clearance.analysis.polyline import Path
 
-__all__ = ["ROOM_SAMPLES", "outside_room_m", "outside_rooms_m", "outside_sign"]
+__all__ = ["ROOM_SAMPLES", "THROUGH_SEARCH_DEG", "THROUGH_TURN_DEG", "outside_room_m",
+           "outside_rooms_m", "outside_sign", "search_turn_deg"]
 
 
 def outside_sign(turn_angle_deg: float) -> float:
@@ -27,6 +28,60 @@ def outside_sign(turn_angle_deg: float) -> float:
     (-1.0, 1.0, 0.0)
     """
     return 0.0 if turn_angle_deg == 0 else math.copysign(1.0, -turn_angle_deg)
+
+
+#: A net turn this small (degrees) is a through passage's float noise, not a hand: the
+#: roundabout's passages straight across come out at +-1e-13 degrees, whose sign chose the
+#: side of their swing search at random.
+THROUGH_TURN_DEG = 1e-6
+#: The turn a through passage is searched as (degrees): as small as the noise it replaces.
+THROUGH_SEARCH_DEG = 1e-3
+
+
+def search_turn_deg(turn_angle_deg: float, path: Path, feature_m: tuple[float, float]
+                    ) -> float:
+    """The turn a run's swing search takes its outside from: the feature's own turn, or for
+    a through passage (net turn within :data:`THROUGH_TURN_DEG`) a tiny turn against the
+    hand of the feature's middle (:data:`THROUGH_SEARCH_DEG`), so that it swings toward the
+    inside of what it goes around: across a roundabout, the ring's inside (the apron side),
+    which its entry and exit deflections turn away from. A straight passage stays 0.
+
+    Examples
+    --------
+    Straight across a ring drawn counter-clockwise (right-hand traffic): deflected right on
+    entry, left around the ring, right on exit; searched as a hair's right turn, whose
+    outside is the left, the island's side:
+
+    >>> from clearance.analysis.polyline import prepare_path
+    >>> a = np.radians(np.linspace(-120, 120, 49))
+    >>> ring = np.c_[12 * np.sin(a), -12 * np.cos(a)]
+    >>> line = np.vstack([[(-30.0, -20.0)], ring, [(30.0, -20.0)]])
+    >>> p = prepare_path(line, 0.1)
+    >>> t = search_turn_deg(0.0, p, (10.0, p.station_m[-1] - 10.0))
+    >>> t < 0, outside_sign(t)
+    (True, 1.0)
+
+    A real turn keeps its angle, and a straight line (the degenerate case) stays straight:
+
+    >>> search_turn_deg(-90.0, p, (10.0, 20.0))
+    -90.0
+    >>> s = prepare_path(np.array([[0.0, 0.0], [50.0, 0.0]]), 0.1)
+    >>> search_turn_deg(0.0, s, (10.0, 40.0))
+    0.0
+    """
+    if abs(turn_angle_deg) >= THROUGH_TURN_DEG:
+        return turn_angle_deg
+    a, b = feature_m
+    mid = 0.5 * (a + b)
+    third = (b - a) / 6.0
+    st = path.station_m
+    inside = (st >= mid - third) & (st <= mid + third)
+    if int(inside.sum()) < 2:
+        return turn_angle_deg
+    turned = float(np.sum(np.diff(np.unwrap(path.heading_rad[inside]))))
+    if abs(math.degrees(turned)) < 1.0:
+        return turn_angle_deg
+    return -math.copysign(THROUGH_SEARCH_DEG, turned)
 
 
 def outside_room_m(path: Path, feature_m: tuple[float, float], side: float,

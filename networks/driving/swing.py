@@ -68,7 +68,7 @@ from clearance.networks.driving.refine import (
     refined_candidate,
     seed_knots,
 )
-from clearance.networks.driving.room import outside_rooms_m, outside_sign
+from clearance.networks.driving.room import outside_rooms_m, outside_sign, search_turn_deg
 from clearance.networks.driving.runs import DrivenRun, DriveOptions, DriveStats, SwungLine
 
 __all__ = ["needs_swing", "swing_pass"]
@@ -101,7 +101,8 @@ def _measure(d: DrivenRun, paths: dict[str, Path], areas: dict[str, Areas]) -> _
     feature = (c.core_start_m, c.core_end_m)
     try:
         path = paths[c.curve_id]
-        side = outside_sign(c.turn_angle_deg)
+        turn = search_turn_deg(c.turn_angle_deg, path, feature)
+        side = outside_sign(turn)
         rooms: tuple[float, float, float] | None = None
         inside = 0.0
         if side:
@@ -117,7 +118,7 @@ def _measure(d: DrivenRun, paths: dict[str, Path], areas: dict[str, Areas]) -> _
     looped = c.kind == "turn" and (excess_turning_deg(path, feature, c.turn_angle_deg)
                                    > LOOPED_EXCESS_DEG)
     # all a judged sample's body covers
-    return _Run(path, feature, c.turn_angle_deg, room, rooms, inside,
+    return _Run(path, feature, turn, room, rooms, inside,
                 d.vehicle.overall_length_m + 2.0, looped)
 
 

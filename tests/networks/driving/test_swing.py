@@ -167,3 +167,32 @@ def test_only_results_that_may_be_kept_are_held_and_the_choice_is_the_same(
     assert tried > 50 and held < tried / 10 and every > held
     assert (pruned.verdict, pruned.reason, pruned.result.clearance.margin_m) == (
         kept_all.verdict, kept_all.reason, kept_all.result.clearance.margin_m)
+
+
+def test_a_through_passage_swings_the_same_way_whatever_its_float_noise():
+    """The roundabout sample's passages straight across have a net turn of +-1e-13 degrees
+    (or exactly 0): float noise, whose sign used to choose the side of their swing search
+    (and 0 none at all). Each is now searched toward the ring's inside, so SU-30 across
+    C3 -> C1 gets the same verdict whichever noise its turn carries: the golden
+    encroaches, the lane path's fails being the search's absence."""
+    from clearance.analysis.polyline import prepare_path
+    from clearance.networks.curves import CurveOptions
+    from clearance.networks.driving.room import outside_sign, search_turn_deg
+    from clearance.reports.study.run import APPROACH_M
+
+    net = read_network("networks/samples/roundabout/roundabout.net.xml")
+    curves = extract_curves(net, options=CurveOptions(approach_length_m=APPROACH_M))
+    through = [c for c in curves if abs(c.turn_angle_deg) < 1e-6]
+    assert len(through) == 8
+    for c in through:  # counter-clockwise rings: the inside is to the left
+        path = prepare_path(c.centerline[:, :2], 0.1)
+        assert outside_sign(search_turn_deg(c.turn_angle_deg, path,
+                                            (c.core_start_m, c.core_end_m))) == 1.0
+    su30 = load_tables([bundled_table("aashto_green_book")], names=["SU-30"]).vehicles()[0]
+    c3 = next(c for c in through if c.curve_id == "roundabout:C3:C3_in_0->C1_out_0")
+    seen = set()
+    for noise in (0.0, 1e-13, -1e-13):  # the same curve (its areas built once), its noise set
+        object.__setattr__(c3, "turn_angle_deg", noise)
+        [d] = drive(net, [(su30, c3)], options=DriveOptions(use_sumo=False, swing=True))
+        seen.add((d.verdict, round(d.result.margin_m, 6)))
+    assert len(seen) == 1 and next(iter(seen))[0] == "encroaches"
