@@ -15,18 +15,19 @@ import math
 import textwrap
 from collections.abc import Sequence
 
+import matplotlib.pyplot as plt
 from matplotlib.figure import Figure
 from matplotlib.patches import Rectangle
 
 from clearance.analysis.turning import centre_line_radius
 from clearance.reports.documents.drawing import Shown, length_text, path_words, stop_words
+from clearance.reports.documents.plotting import STYLE
 from clearance.reports.documents.sheet_settings import Project
 from clearance.reports.results.units import text_in_units
 from clearance.vehicles.vehicle import Vehicle
 
-__all__ = ["LINE_MM", "MM", "PAPER_MM", "ROW_MM", "TITLE_BLOCK_MM", "block", "block_height",
-           "title_block", "title_block_height", "vehicle_rows", "verdict_rows",
-           "wrapped_rows"]
+__all__ = ["LINE_MM", "MM", "PAPER_MM", "PDF_METADATA", "ROW_MM", "block", "block_height",
+           "sheet_figure", "title_block", "vehicle_rows", "verdict_rows", "wrapped_rows"]
 
 #: Paper: A3 landscape, millimetres.
 PAPER_MM = (420.0, 297.0)
@@ -35,9 +36,9 @@ MM = 1 / 25.4
 LINE_MM = 3.3
 #: A title block row's height (mm): number, revision, scale, sheet, the signatures.
 ROW_MM = 8.0
-#: The title block's height (mm) at the foot of the column of blocks, the project's name and
-#: the title on one line each: those two rows, then five rows of :data:`ROW_MM`.
-TITLE_BLOCK_MM = 2 * (4.5 + LINE_MM) + 5 * ROW_MM
+#: What every PDF of sheets says of itself (no creation date: the same inputs give the same
+#: file).
+PDF_METADATA = {"Creator": "sumo-clearance", "CreationDate": None}
 
 
 def vehicle_rows(v: Vehicle, units: str) -> list[tuple[str, str]]:
@@ -113,6 +114,17 @@ def wrapped_rows(rows: Sequence[tuple[str, str]], wrap: int) -> list[tuple[str, 
     return lines
 
 
+def sheet_figure() -> Figure:
+    """An empty A3 landscape sheet (:data:`PAPER_MM`) in the report's style, with its border
+    5 mm inside the paper's edge (the caller closes it)."""
+    W, H = PAPER_MM
+    with plt.rc_context(STYLE):
+        fig = plt.figure(figsize=(W * MM, H * MM))
+    fig.add_artist(Rectangle((5 / W, 5 / H), (W - 10) / W, (H - 10) / H,
+                             transform=fig.transFigure, fc="none", ec="black", lw=1.2))
+    return fig
+
+
 def block_height(rows: Sequence[tuple[str, str]], wrap: int = 44, scale: float = 1.0
                  ) -> float:
     """The height (mm) :func:`block` gives ``rows`` (``scale``: its text set smaller).
@@ -185,18 +197,6 @@ def _row_heights(project: Project, title: str, number: str, w: float) -> list[fl
             tall((number, half), (project.revision, half)), ROW_MM,
             tall((project.drawn, name_w), (project.date, w * 0.26)),
             tall((project.checked, name_w)), ROW_MM]
-
-
-def title_block_height(project: Project, title: str, w: float, number: str = "") -> float:
-    """The height (mm) :func:`title_block` takes for ``project``, ``title`` and the drawing
-    ``number``.
-
-    >>> title_block_height(Project(), "x", 106.0) == TITLE_BLOCK_MM
-    True
-    >>> title_block_height(Project(name="a long name " * 20), "x", 106.0) > TITLE_BLOCK_MM
-    True
-    """
-    return round(sum(_row_heights(project, title, number, w)), 6)
 
 
 def title_block(fig: Figure, x: float, y: float, w: float, project: Project, title: str,

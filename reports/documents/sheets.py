@@ -47,13 +47,13 @@ from clearance.reports.documents.drawing import (
     length_text,
 )
 from clearance.reports.documents.figures import shown_runs
-from clearance.reports.documents.plotting import STYLE
 from clearance.reports.documents.sheet_blocks import (
     LINE_MM,
-    MM,
     PAPER_MM,
+    PDF_METADATA,
     block,
     block_height,
+    sheet_figure,
     title_block,
     vehicle_rows,
     verdict_rows,
@@ -282,10 +282,7 @@ def _column(fig: Figure, page: SheetPage, nc: NetworkCurves, units: str,
 def _sheet(nc: NetworkCurves, page: SheetPage, units: str, head: list[tuple[str, str]],
            total: int, project: Project, vehicles: dict) -> Figure:
     W, H = PAPER_MM
-    with plt.rc_context(STYLE):
-        fig = plt.figure(figsize=(W * MM, H * MM))
-    fig.add_artist(Rectangle((5 / W, 5 / H), (W - 10) / W, (H - 10) / H,
-                             transform=fig.transFigure, fc="none", ec="black", lw=1.2))
+    fig = sheet_figure()
     s, curve = page.shown, page.curve
     fx, fy, fw, fh = FRAME_MM
     bounds, page.scale = sheet_view(curve, s)
@@ -412,7 +409,7 @@ def sheet_part(study: Study, nc: NetworkCurves, tables: Sequence[Path], units: s
     vehicles = {v.name: v for v in study.table.vehicles()}
     rows = []
     buf = io.BytesIO()
-    with PdfPages(buf, metadata={"Creator": "sumo-clearance", "CreationDate": None}) as pdf:
+    with PdfPages(buf, metadata=PDF_METADATA) as pdf:
         for page in pages:
             fig = _sheet(nc, page, units, head, total, settings.project, vehicles)
             pdf.savefig(fig)
@@ -455,13 +452,9 @@ def index_pdf(nc: NetworkCurves, rows: Sequence[IndexRow], head: list[tuple[str,
     fx = FRAME_MM[0]
     chunks = _index_chunks(rows)
     buf = io.BytesIO()
-    with PdfPages(buf, metadata={"Creator": "sumo-clearance", "CreationDate": None}) as pdf:
+    with PdfPages(buf, metadata=PDF_METADATA) as pdf:
         for n, chunk in enumerate(chunks, start=1):
-            with plt.rc_context(STYLE):
-                fig = plt.figure(figsize=(W * MM, H * MM))
-            fig.add_artist(Rectangle((5 / W, 5 / H), (W - 10) / W, (H - 10) / H,
-                                     transform=fig.transFigure, fc="none", ec="black",
-                                     lw=1.2))
+            fig = sheet_figure()
             fig.text(fx / W, (H - 12) / H, f"Swept-path sheets of {nc.name}: index"
                      + (f" ({n} of {len(chunks)})" if len(chunks) > 1 else ""),
                      fontsize=12, fontweight="bold", va="top")

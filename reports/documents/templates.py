@@ -441,6 +441,7 @@ def write_template_sheets(table: VehicleTable, path: str | Path, units: str = "m
 
     from clearance.analysis.turning import turning_metrics
     from clearance.reports.documents.plotting import vehicle_colours
+    from clearance.reports.documents.sheet_blocks import PDF_METADATA
     from clearance.reports.output.atomic import write_bytes_atomic
 
     built = built or {}
@@ -449,7 +450,7 @@ def write_template_sheets(table: VehicleTable, path: str | Path, units: str = "m
     metrics = turning_metrics(table).set_index("vehicle")
     colours = vehicle_colours(table.names)
     buf = io.BytesIO()
-    with PdfPages(buf, metadata={"Creator": "sumo-clearance", "CreationDate": None}) as pdf:
+    with PdfPages(buf, metadata=PDF_METADATA) as pdf:
         for a, b in zip(t90s, t180s, strict=True):
             fig = template_sheet(a, b, metrics.loc[a.vehicle.name], units,
                                  colours[a.vehicle.name])

@@ -18,7 +18,7 @@ from clearance.reports.documents.templates import (
     write_template_sheets,
 )
 from clearance.vehicles.table import bundled_table, load_tables
-from tests.reports.test_sheets import pdf_pages
+from tests.reports.pdf import pdf_pages
 
 NAMES = ["2009 Smart Car", "2010 Honda Odyssey", "P", "SU-30"]
 

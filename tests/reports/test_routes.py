@@ -20,7 +20,7 @@ from clearance.reports.results.routes import compare_runs
 from clearance.reports.study.routes import run_route_study
 from clearance.reports.study.run import run_study
 from clearance.vehicles.table import bundled_table_paths, load_tables
-from tests.reports.test_sheets import pdf_text
+from tests.reports.pdf import pdf_text
 
 REAL = Path(__file__).resolve().parents[3] / "shared" / "realnets"
 needs_real = pytest.mark.skipif(not REAL.is_dir(), reason="../shared/realnets/ is absent")

@@ -3,9 +3,7 @@ title block, the ghost, the storeys of a helix."""
 
 import hashlib
 import math
-import os
 import re
-import subprocess
 from pathlib import Path
 
 import numpy as np
@@ -32,6 +30,7 @@ from clearance.reports.documents.sheets import (
 from clearance.reports.documents.storeys import LAST_TURN_RAD
 from clearance.reports.study.run import run_study
 from clearance.vehicles.table import bundled_table_paths, load_tables
+from tests.reports.pdf import pdf_pages, pdf_text
 
 NET = next(p for p in sample_networks() if p.stem.startswith("intersection"))
 VEHICLES = ["P", "CITY-BUS", "WB-67"]
@@ -43,16 +42,6 @@ def study():
     table = load_tables(bundled_table_paths(), VEHICLES)
     return run_study([NET], table, workers=1, clearance_m=0.3,
                      selection=Selection(junctions=("T",)))
-
-
-def pdf_pages(data: bytes) -> list[tuple[float, float]]:
-    """The (width, height) in points of every page of a PDF (a minimal parse: matplotlib
-    writes one ``/Type /Page`` object with its ``/MediaBox`` per page)."""
-    pages = []
-    for m in re.finditer(rb"<<[^>]*?/Type\s*/Page\b(?!s).*?>>", data, re.S):
-        box = re.search(rb"/MediaBox\s*\[\s*0\s+0\s+([\d.]+)\s+([\d.]+)\s*\]", m.group(0))
-        pages.append((float(box.group(1)), float(box.group(2))) if box else (0.0, 0.0))
-    return pages
 
 
 def test_a_pdf_per_network_with_the_expected_pages_on_a3_landscape(study, tmp_path):
@@ -222,21 +211,6 @@ def test_analytic_studies_get_sheets_of_their_envelopes(tmp_path):
     assert len(pdf_pages(written[0].read_bytes())) == 1 + 2
 
 
-PDFTOTEXT = "/usr/bin/pdftotext"
-IN_CI = os.environ.get("CI", "").lower() in ("1", "true", "yes")
-
-
-def pdf_text(path: Path, page: int | None = None) -> str:
-    """The text of a PDF (one page, or all) as poppler's pdftotext reads it."""
-    if not os.path.exists(PDFTOTEXT):
-        if IN_CI:
-            pytest.fail("pdftotext is missing in CI: .ci/run installs poppler-utils")
-        pytest.skip("poppler's pdftotext is absent (apt-get install poppler-utils)")
-    pages = [] if page is None else ["-f", str(page), "-l", str(page)]
-    return subprocess.run([PDFTOTEXT, "-layout", *pages, str(path), "-"], check=True,
-                          capture_output=True, text=True).stdout
-
-
 def test_the_index_lists_every_sheet_and_the_title_block_is_filled(study, tmp_path):
     """The first page indexes every sheet by its drawing number; every sheet's title block
     carries the project's fields whole (a long name wraps, never cut short), and the index
@@ -297,6 +271,7 @@ def test_bad_project_files_and_options_exit_2_naming_them(tmp_path, monkeypatch,
     assert main(base + ["--project", str(tmp_path / "missing.toml")]) == 2
     assert "missing.toml" in capsys.readouterr().err
     assert main(base + ["--ghost", "NOPE"]) == 2 and "NOPE" in capsys.readouterr().err
+    assert main(base + ["--max-sheets", "-1"]) == 2 and "--max-sheets" in capsys.readouterr().err
     assert not (tmp_path / "rep").exists()
 
 
