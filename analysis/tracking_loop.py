@@ -23,12 +23,17 @@ from numba import njit
 
 from clearance.analysis.kernels import project_near
 
-__all__ = ["APPROACH_SHARE", "RECORD", "approach_angle", "articulation_one", "limit_one",
-           "predictive_stanley", "ramp_step_one", "run_loop", "stanley_residual"]
+__all__ = ["APPROACH_SHARE", "BISECT_TO_RAD", "RECORD", "approach_angle", "articulation_one",
+           "limit_one", "predictive_stanley", "ramp_step_one", "run_loop", "stanley_residual"]
 
 #: Row of each recorded quantity in the loop's ``(9, steps, runs)`` record.
 RECORD = ("t_s", "s_m", "x_m", "y_m", "theta_rad", "phi_rad", "error_m", "speed_m_s",
           "psi_rad")
+
+
+BISECT_TO_RAD = 1e-3
+"""The steering command's bisection stops at a bracket this narrow (rad); regula falsi
+finds the root within it (:func:`predictive_stanley`)."""
 
 
 @njit(cache=True)
@@ -206,8 +211,8 @@ def approach_angle(e: float, v: float, gain: float, soft_speed: float,
 def predictive_stanley(s_f: float, err: float, theta: float, phi: float, v: float,
                        wheelbase: float, lock: float, rate: float, gain: float,
                        soft_speed: float, station: np.ndarray, heading: np.ndarray,
-                       curvature: np.ndarray, n_pts: int,
-                       th_path: float) -> float:  # pragma: no cover - compiled
+                       curvature: np.ndarray, n_pts: int, th_path: float,
+                       max_change: float = math.inf) -> float:  # pragma: no cover - compiled
     """Steering command of a front-steered vehicle: the Stanley law, ahead of the wheel.
 
     The plain law ``wrap(theta_path - theta) - atan(k e / (v + v_soft))`` asks for the
@@ -215,8 +220,18 @@ def predictive_stanley(s_f: float, err: float, theta: float, phi: float, v: floa
     while the body goes on turning and the front axle goes on drifting, so that the plain
     law swings too late and overshoots. This one asks for the steering ``c`` that the law
     asks for at the moment the wheel reaches it (:func:`stanley_residual` is zero), found
-    by bisection within the lock. Where the wheel is already there (a steady curve, or an
-    unlimited rate) the two are the same.
+    by bisection within the lock down to a bracket of :data:`BISECT_TO_RAD`, then by regula
+    falsi (Illinois) within it to 1e-13 rad. Where the wheel unwinds from lock the residual
+    has several roots; the bisection picks one, and the bracket it leaves holds only that
+    one, so the command is the one a bisection all the way gives, to 1e-11 rad, in about 15
+    residuals rather than 43. Where the wheel is already there (a steady curve, or an
+    unlimited rate) the two laws are the same.
+
+    ``max_change`` is how far the wheel can turn in the step (``rate dt``): once the
+    bracket lies wholly further than that from ``phi``, the step turns the wheel by
+    exactly ``max_change`` whichever point of the bracket is the root, and the search stops
+    there (any point of the bracket then steps, limits and counts alike in
+    :func:`run_loop`; on DRT's swung candidates 18 % of the steps are rate-limited).
 
     Examples
     --------
@@ -247,15 +262,40 @@ def predictive_stanley(s_f: float, err: float, theta: float, phi: float, v: floa
                             soft_speed, station, heading, curvature, n_pts, th_path)
     if f_hi >= 0.0:
         return hi + f_hi
-    for _ in range(60):
+    while hi - lo > BISECT_TO_RAD:
         mid = 0.5 * (lo + hi)
-        if stanley_residual(mid, s_f, err, theta, phi, v, wheelbase, lock, rate, gain,
-                            soft_speed, station, heading, curvature, n_pts, th_path) > 0.0:
-            lo = mid
+        f_mid = stanley_residual(mid, s_f, err, theta, phi, v, wheelbase, lock, rate, gain,
+                                 soft_speed, station, heading, curvature, n_pts, th_path)
+        if f_mid > 0.0:
+            lo, f_lo = mid, f_mid
         else:
-            hi = mid
+            hi, f_hi = mid, f_mid
+        if lo - phi > max_change or phi - hi > max_change:
+            return 0.5 * (lo + hi)
+    # the Illinois variant of regula falsi in the last small bracket
+    side = 0
+    for _ in range(60):
         if hi - lo < 1e-13:
             break
+        mid = (lo * f_hi - hi * f_lo) / (f_hi - f_lo)
+        if not lo < mid < hi:
+            mid = 0.5 * (lo + hi)
+        f_mid = stanley_residual(mid, s_f, err, theta, phi, v, wheelbase, lock, rate, gain,
+                                 soft_speed, station, heading, curvature, n_pts, th_path)
+        if f_mid > 0.0:
+            lo, f_lo = mid, f_mid
+            if side > 0:
+                f_hi *= 0.5
+            side = 1
+        elif f_mid < 0.0:
+            hi, f_hi = mid, f_mid
+            if side < 0:
+                f_lo *= 0.5
+            side = -1
+        else:
+            return mid
+        if abs(f_mid) < 1e-15:
+            return mid
     return 0.5 * (lo + hi)
 
 
@@ -321,7 +361,7 @@ def run_loop(
             else:
                 cmd = predictive_stanley(s_f, err, th[i], phi[i], v_f, wb[i], lock[i], rate[i],
                                          gain, soft_speed, station[i], heading[i],
-                                         curvature[i], n_pts[i], th_path)
+                                         curvature[i], n_pts[i], th_path, rate[i] * dt)
             cmd = min(max(cmd, -max_command), max_command)
             new_phi = limit_one(phi[i], cmd, lock[i], rate[i] * dt)
             rec[0, k, i] = t
