@@ -40,6 +40,7 @@ from clearance.analysis.envelope import (
     DEFAULT_WIDTH_STEP_M,
     SweptPath,
     ring_segments,
+    swept_envelope,
     swept_path,
 )
 from clearance.analysis.feature import feature_mask, feature_reason, slice_run
@@ -50,7 +51,7 @@ from clearance.analysis.tracking import TrackingRun
 from clearance.vehicles.errors import GeometryError
 
 __all__ = ["Areas", "Clearance", "END_SLACK_M", "NOTHING_SWEPT", "RunResult", "VERDICTS",
-           "classify", "end_boxes", "evaluate", "evaluate_batch", "worst_level"]
+           "classify", "end_boxes", "evaluate", "evaluate_batch", "judge", "worst_level"]
 
 VERDICTS = ("cannot-turn", "fails", "encroaches", "clear")
 """Verdicts, worst first."""
@@ -363,31 +364,10 @@ def evaluate(
     ('clear', 0.55)
     """
     _check_offset(offset_m)
-    reason = run.reason
-    judged = run
-    mask = None
-    if feature_m is not None:
-        mask = feature_mask(run, feature_m)
-        reason = feature_reason(run, mask)
-        keep = np.flatnonzero(mask)
-        if len(keep) >= 1:
-            # one sample either side: the sweep into and out of the window
-            lo, hi = max(int(keep[0]) - 1, 0), min(int(keep[-1]) + 1, len(mask) - 1)
-            judged = slice_run(run, np.arange(lo, hi + 1))
+    reason, judged, mask = _judged_part(run, feature_m)
     swept = swept_path(judged, tolerance_m=tolerance_m, width_step_m=width_step_m,
                        stations_m=feature_m)
-    measured = swept.envelope
-    if offset_m > 0:
-        measured = shapely.buffer(measured, offset_m, quad_segs=8)
-    ignore = boxes = None
-    if trim_ends:
-        v = run.vehicle
-        reach = v.overall_length_m + max(v.width_m, v.trailer.width_m if v.trailer else 0.0)
-        boxes = end_boxes(run.path, reach + offset_m + 1.0)
-        measured = shapely.difference(measured, boxes)
-        # the lanes' end lines, which the trimmed envelope meets at the (smoothed) path's
-        # end normal; a lane's flat end follows its last chord, a few degrees off that
-        ignore = shapely.buffer(boxes, END_SLACK_M, quad_segs=1)
+    measured, boxes, ignore = _measured(swept.envelope, run, offset_m, trim_ends)
     parts = []
     if areas.levels:  # each level's part of the sweep against its own storey's areas
         parts = level_sweeps(run, areas.levels, mask, offset_m, boxes,
@@ -409,6 +389,83 @@ def evaluate(
     return RunResult(run, swept, dataclasses.replace(clearance, offset_m=float(offset_m),
                                                      reason=_grown(clearance, offset_m)),
                      measured)
+
+
+def judge(
+    run: TrackingRun,
+    areas: Areas,
+    offset_m: float = 0.0,
+    tolerance_m: float = DEFAULT_TOLERANCE_M,
+    feature_m: tuple[float, float] | None = None,
+) -> Clearance:
+    """The clearance :func:`evaluate` gives a run, without the rest of its result.
+
+    A search judging many candidate paths reads only their clearances; the envelope is
+    swept and measured as :func:`evaluate` does (the same verdict and margins), but the
+    wheel tracks, offtracking and swept widths are not computed. On a network with levels
+    it is :func:`evaluate`'s clearance.
+
+    Examples
+    --------
+    >>> from clearance.analysis.tracking import simulate
+    >>> from clearance.vehicles.vehicle import Vehicle
+    >>> car = Vehicle("car", 2.7, 1.5, 1.8, 0.9, 1.0, 0.6, 0.65, 0.5)
+    >>> run = simulate(car, [(0.0, 1.75), (30.0, 1.75)])
+    >>> areas = Areas(shapely.box(-10, 0, 40, 3.5), shapely.box(-10, -3.5, 40, 7.0))
+    >>> judge(run, areas, offset_m=0.3) == evaluate(run, areas, offset_m=0.3).clearance
+    True
+    >>> judge(run, areas, feature_m=(5.0, 10.0)) == evaluate(run, areas,
+    ...                                                    feature_m=(5.0, 10.0)).clearance
+    True
+
+    A window the run never reaches (the degenerate case) judges the whole run, as
+    :func:`evaluate` does:
+
+    >>> judge(run, areas, feature_m=(100.0, 110.0)) == judge(run, areas)
+    True
+    """
+    if areas.levels:
+        return evaluate(run, areas, offset_m, tolerance_m, feature_m=feature_m).clearance
+    _check_offset(offset_m)
+    reason, judged, _ = _judged_part(run, feature_m)
+    measured, _, ignore = _measured(swept_envelope(judged, tolerance_m)[0], run, offset_m, True)
+    clearance = classify(measured, areas, 0.0, reason, ignore=ignore)
+    return dataclasses.replace(clearance, offset_m=float(offset_m),
+                               reason=_grown(clearance, offset_m))
+
+
+def _judged_part(run: TrackingRun, feature_m: tuple[float, float] | None
+                 ) -> tuple[str, TrackingRun, np.ndarray | None]:
+    """What decides a run over a window (see :func:`evaluate`): the reason it cannot be
+    driven there (``""``: it can), its samples there with one either side, and the mask."""
+    if feature_m is None:
+        return run.reason, run, None
+    mask = feature_mask(run, feature_m)
+    keep = np.flatnonzero(mask)
+    judged = run
+    if len(keep) >= 1:
+        # one sample either side: the sweep into and out of the window
+        lo, hi = max(int(keep[0]) - 1, 0), min(int(keep[-1]) + 1, len(mask) - 1)
+        judged = slice_run(run, np.arange(lo, hi + 1))
+    return feature_reason(run, mask), judged, mask
+
+
+def _measured(envelope: BaseGeometry, run: TrackingRun, offset_m: float, trim_ends: bool
+              ) -> tuple[BaseGeometry, BaseGeometry | None, BaseGeometry | None]:
+    """The envelope grown by the offset and trimmed at the path's ends; the end boxes and
+    the region where the areas' boundaries do not count (both ``None`` untrimmed)."""
+    measured = envelope
+    if offset_m > 0:
+        measured = shapely.buffer(measured, offset_m, quad_segs=8)
+    if not trim_ends:
+        return measured, None, None
+    v = run.vehicle
+    reach = v.overall_length_m + max(v.width_m, v.trailer.width_m if v.trailer else 0.0)
+    boxes = end_boxes(run.path, reach + offset_m + 1.0)
+    # the lanes' end lines, which the trimmed envelope meets at the (smoothed) path's end
+    # normal; a lane's flat end follows its last chord, a few degrees off that
+    return (shapely.difference(measured, boxes), boxes,
+            shapely.buffer(boxes, END_SLACK_M, quad_segs=1))
 
 
 def worst_level(found: list[tuple[Level, tuple[float, float], Clearance]]) -> Clearance:

@@ -69,8 +69,8 @@ from clearance.analysis.tracking import TrackingRun, Trajectory
 from clearance.vehicles.vehicle import Vehicle
 
 __all__ = ["DEFAULT_TOLERANCE_M", "DEFAULT_WIDTH_STEP_M", "SweptPath", "body_corners",
-           "body_points", "interval_hulls", "key_samples", "ring_segments", "sweep", "swept_path",
-           "swept_widths", "wheel_tracks"]
+           "body_points", "interval_hulls", "key_samples", "ring_segments", "sweep",
+           "swept_envelope", "swept_path", "swept_widths", "wheel_tracks"]
 
 FloatArray = NDArray[np.float64]
 
@@ -425,6 +425,43 @@ def swept_widths(
     return np.stack([stations, widths], axis=1)
 
 
+def swept_envelope(run: TrackingRun, tolerance_m: float = DEFAULT_TOLERANCE_M
+                   ) -> tuple[BaseGeometry, BaseGeometry, BaseGeometry | None]:
+    """The area a run's bodies sweep: ``(envelope, tractor's, trailer's or None)``.
+
+    The envelope alone, for judging a path (:func:`clearance.analysis.clearance.judge`):
+    :func:`swept_path` adds the wheel tracks, offtracking and swept widths.
+
+    Examples
+    --------
+    Straight ahead 10 m, a car without trailer: the body stretched by the distance.
+
+    >>> from clearance.analysis.tracking import simulate
+    >>> car = Vehicle("car", 2.7, 1.5, 1.8, 0.9, 1.0, 0.6, 0.65, 0.5)
+    >>> env, tractor, trailer = swept_envelope(simulate(car, [(0.0, 0.0), (10.0, 0.0)]))
+    >>> round(env.area, 6), env.equals(tractor), trailer is None
+    (26.28, True, True)
+
+    Standing still (one sample) sweeps the body itself:
+
+    >>> from clearance.analysis.feature import slice_run
+    >>> one = slice_run(simulate(car, [(0.0, 0.0), (10.0, 0.0)]), np.array([0]))
+    >>> round(swept_envelope(one)[0].area, 6)
+    8.28
+    """
+    v, tr = run.vehicle, run.trajectory
+    wb = v.wheelbase_m
+    tractor = sweep(tr.x_m, tr.y_m, tr.theta_rad, wb + v.front_overhang_m, v.rear_overhang_m,
+                    v.width_m, tolerance_m, axle_m=wb if v.steered_axle == "rear" else 0.0)
+    if (v.trailer is None or tr.theta_t_rad is None or tr.xt_m is None
+            or tr.yt_m is None):
+        return tractor, tractor, None
+    t = v.trailer
+    trailer_area = sweep(tr.xt_m, tr.yt_m, tr.theta_t_rad, t.wheelbase_m + t.front_overhang_m,
+                         t.rear_overhang_m, t.width_m, tolerance_m)
+    return shapely.union(tractor, trailer_area), tractor, trailer_area
+
+
 def swept_path(
     run: TrackingRun,
     tolerance_m: float = DEFAULT_TOLERANCE_M,
@@ -458,23 +495,13 @@ def swept_path(
     0.0
     """
     v, tr = run.vehicle, run.trajectory
-    wb = v.wheelbase_m
-    tractor = sweep(tr.x_m, tr.y_m, tr.theta_rad, wb + v.front_overhang_m, v.rear_overhang_m,
-                    v.width_m, tolerance_m, axle_m=wb if v.steered_axle == "rear" else 0.0)
-    trailer_area = None
+    envelope, tractor, trailer_area = swept_envelope(run, tolerance_m)
     theta0 = float(tr.theta_rad[0])
     off = _offtracking(tr.xf_m, tr.yf_m, tr.x_m, tr.y_m, theta0)
     i_off = int(np.argmax(off))
     off_t = None
-    if (v.trailer is not None and tr.theta_t_rad is not None
-            and tr.xt_m is not None and tr.yt_m is not None):
-        t = v.trailer
-        trailer_area = sweep(tr.xt_m, tr.yt_m, tr.theta_t_rad, t.wheelbase_m + t.front_overhang_m,
-                             t.rear_overhang_m, t.width_m, tolerance_m)
-        envelope = shapely.union(tractor, trailer_area)
+    if trailer_area is not None and tr.xt_m is not None and tr.yt_m is not None:
         off_t = _offtracking(tr.xf_m, tr.yf_m, tr.xt_m, tr.yt_m, theta0)
-    else:
-        envelope = tractor
     widths = swept_widths(envelope, run, width_step_m, stations_m)
     i_w = int(np.argmax(widths[:, 1]))
     return SweptPath(

@@ -40,7 +40,7 @@ from collections.abc import Callable
 
 import numpy as np
 
-from clearance.analysis.clearance import Areas, Clearance, RunResult, evaluate
+from clearance.analysis.clearance import Areas, Clearance, RunResult, evaluate, judge
 from clearance.analysis.failures import GEOMETRY_FAILURES
 from clearance.analysis.feature import feature_mask, feature_reason
 from clearance.analysis.polyline import Path
@@ -166,10 +166,10 @@ def swing_pass(
     runs = [d for d in out if needs_swing(d)]
     measured = {id(d): m for d in runs if (m := _measure(d, paths, areas)) is not None}
     # every candidate the follower could drive, with its clearance (None: it could not be
-    # judged); the results only of those that may still be kept (:func:`_prune`: a run's
-    # search drives hundreds)
+    # judged); the driven runs only of those that may still be kept (:func:`_prune`: a run's
+    # search drives hundreds), to be measured in full once one is chosen (:func:`_choose`)
     tried: dict[int, list[tuple[Candidate, Clearance | None]]] = {id(d): [] for d in runs}
-    results: dict[int, dict[int, RunResult]] = {id(d): {} for d in runs}
+    results: dict[int, dict[int, tuple[Clearance, TrackingRun]]] = {id(d): {} for d in runs}
     judged = 0
     count = 0
 
@@ -187,12 +187,12 @@ def swing_pass(
                 res = None
                 if not feature_reason(run, feature_mask(run, cand.window_m)):
                     res = _judged(d, cand, run, areas[d.curve.curve_id], options.offset_m)
-                    tried[id(d)].append((cand, None if res is None else res.clearance))
+                    tried[id(d)].append((cand, res))
                     if res is not None:
                         judged += 1
-                        results[id(d)][len(tried[id(d)]) - 1] = res
+                        results[id(d)][len(tried[id(d)]) - 1] = (res, run)
                         _prune(results[id(d)])
-                keys.append(_key(None if res is None else res.clearance, run.max_error_m))
+                keys.append(_key(res, run.max_error_m))
         return keys
 
     def lane_of(d: DrivenRun) -> RunResult:
@@ -223,7 +223,8 @@ def swing_pass(
     before, t1, c1 = count, time.perf_counter(), time.process_time()
     refined = _refine([d for d in runs if id(d) in measured], measured, tried, lane_of,
                       drive_all, refine)
-    taken = sum(_choose(d, lane_of(d), tried[id(d)], results[id(d)], search, refine)
+    taken = sum(_choose(d, lane_of(d), tried[id(d)], results[id(d)], search, refine,
+                        areas[d.curve.curve_id], options.offset_m)
                 for d in runs)
     if stats is not None:
         stats.refine_runs += refined
@@ -237,13 +238,13 @@ def swing_pass(
     return taken
 
 
-def _prune(results: dict[int, RunResult]) -> None:
+def _prune(results: dict[int, tuple[Clearance, TrackingRun]]) -> None:
     """Drop the results of a run's candidates that can no longer be kept: of a worse tier
     than the best so far, or short of its decisive margin by more than
     :data:`~clearance.networks.driving.judging.BETTER_BY_M`
     (:func:`clearance.networks.driving.judging.rank` keeps a
     path within that of the best of its tier, never one further short)."""
-    keys = {i: (tier(r.clearance), decisive_margin(r.clearance)) for i, r in results.items()}
+    keys = {i: (tier(c), decisive_margin(c)) for i, (c, _) in results.items()}
     top = max(keys.values())
     for i, (t, m) in keys.items():
         if t < top[0] or m < top[1] - BETTER_BY_M - 1e-9:
@@ -371,10 +372,26 @@ def _near_steps(tried: list[tuple[Candidate, Clearance | None]], steps: int) -> 
 
 
 def _choose(d: DrivenRun, lane: RunResult, tried: list[tuple[Candidate, Clearance | None]],
-            results: dict[int, RunResult], search: SwingSearch, refine: RefineSearch) -> bool:
-    """Keep the best of the lane path and the tried candidates (``results``: the results of
-    those that may be kept, by their place in ``tried``); whether a swung one won."""
+            results: dict[int, tuple[Clearance, TrackingRun]], search: SwingSearch,
+            refine: RefineSearch, areas: Areas, offset_m: float) -> bool:
+    """Keep the best of the lane path and the tried candidates (``results``: the clearances
+    and driven runs of those that may be kept, by their place in ``tried``), measured in
+    full (:func:`clearance.analysis.clearance.evaluate`: its clearance is the one judged);
+    whether a swung one won."""
     best = rank([lane.clearance] + [c for _, c in tried])
+    while best:
+        if best - 1 not in results:  # pruned: only after the best could not be measured
+            best = 0
+            break
+        cand, run = tried[best - 1][0], results[best - 1][1]  # kept: never pruned (_prune)
+        try:
+            res = evaluate(run, areas, offset_m, feature_m=cand.window_m)
+            break
+        except GEOMETRY_FAILURES as exc:  # its envelope judged, its widths or tracks not
+            log.info("%s x %s: a swung path could not be measured: %s", d.vehicle.name,
+                     d.curve.curve_id, exc)
+            tried[best - 1] = (cand, None)
+            best = rank([lane.clearance] + [c for _, c in tried])
     if best == 0:
         if lane.verdict == "cannot-turn":
             d.result = dataclasses.replace(lane, clearance=dataclasses.replace(
@@ -384,7 +401,6 @@ def _choose(d: DrivenRun, lane: RunResult, tried: list[tuple[Candidate, Clearanc
                 f"lines from {-refine.lower.start_m:g} m inside to {refine.upper.start_m:g} m "
                 "outside the lane centre line) is within its lock and steering rate"))
         return False
-    cand, res = tried[best - 1][0], results[best - 1]  # kept: never pruned (_prune)
     why = swing_reason(cand.amplitude_m, cand.apex_cut, res.clearance, cand.how)
     why += f" (on the lane centre line: {lane.verdict}"
     if lane.verdict != "cannot-turn":
@@ -408,10 +424,11 @@ def _swing_m(cand: Candidate) -> float:
 
 
 def _judged(d: DrivenRun, cand: Candidate, run: TrackingRun, areas: Areas,
-            offset_m: float) -> RunResult | None:
-    """A driven candidate's verdict over its window (``None`` where it cannot be judged)."""
+            offset_m: float) -> Clearance | None:
+    """A driven candidate's clearance over its window (``None`` where it cannot be judged):
+    :func:`clearance.analysis.clearance.judge`, its envelope without widths or tracks."""
     try:
-        return evaluate(run, areas, offset_m, feature_m=cand.window_m)
+        return judge(run, areas, offset_m, feature_m=cand.window_m)
     except GEOMETRY_FAILURES as exc:
         log.info("%s x %s: a swung path could not be judged: %s", d.vehicle.name,
                  d.curve.curve_id, exc)

@@ -15,12 +15,13 @@ from clearance.analysis.clearance import (
     classify,
     evaluate,
     evaluate_batch,
+    judge,
 )
 from clearance.analysis.feature import feature_mask
 from clearance.analysis.margins import signed_margin_m
 from clearance.analysis.tracking import simulate, simulate_batch
 from clearance.vehicles.errors import GeometryError
-from tests.analysis.helpers import bus, car, turn
+from tests.analysis.helpers import bus, car, semi, turn
 
 LANE = shapely.box(0.0, 0.0, 60.0, 3.5)
 ROADWAY = shapely.box(0.0, 0.0, 60.0, 7.0)
@@ -193,3 +194,22 @@ def test_a_run_stopped_before_the_feature_cannot_turn_there() -> None:
     judged = evaluate(run, areas, feature_m=(60.0, 65.0))
     assert judged.verdict == "cannot-turn"
     assert judged.clearance.reason.startswith("the run stopped before the vehicle had left")
+
+
+@pytest.mark.parametrize("offset_m", [0.0, 0.3])
+def test_judge_gives_the_clearance_evaluate_gives(offset_m: float) -> None:
+    """The search judges candidates by their clearance alone: for cars, buses and a
+    semitrailer, clear, encroaching, failing and unable to turn, over the whole run and over
+    a window, it is the one the full evaluation gives."""
+    path = turn(12.0, 90.0, lead_m=20.0, tail_m=20.0)
+    tight = turn(4.0, 90.0, lead_m=20.0, tail_m=20.0)
+    runs = simulate_batch([car(), bus(), bus(), semi(), bus()], [path, path, path, path, tight])
+    wide, narrow = _corner_areas(path, 2.5, 8.0), _corner_areas(path, 1.75, 2.5)
+    areas = [wide, wide, narrow, wide, _corner_areas(tight, 3.5, 8.0)]
+    seen = set()
+    for run, a in zip(runs, areas, strict=True):
+        for window in (None, (22.0, 35.0)):
+            full = evaluate(run, a, offset_m, feature_m=window).clearance
+            assert judge(run, a, offset_m, feature_m=window) == full
+            seen.add(full.verdict)
+    assert seen == set(VERDICTS)

@@ -82,9 +82,9 @@ def test_the_path_kept_reaches_least_into_the_opposing_lanes(tmp_path, netconver
     seen = []
     choose = swing._choose
 
-    def spy(d, lane, tried, results, search, refine):
+    def spy(d, lane, tried, *rest):
         seen.append(list(tried))
-        return choose(d, lane, tried, results, search, refine)
+        return choose(d, lane, tried, *rest)
 
     monkeypatch.setattr(swing, "_choose", spy)
     net, c = _turn(tmp_path, netconvert, "two_way_least", 3.0, 1, 1, 3.2)
@@ -155,9 +155,9 @@ def test_only_results_that_may_be_kept_are_held_and_the_choice_is_the_same(
     sizes = []
     choose = swing._choose
 
-    def spy(d, lane, tried, results, search, refine):
+    def spy(d, lane, tried, results, *rest):
         sizes.append((len(tried), len(results)))
-        return choose(d, lane, tried, results, search, refine)
+        return choose(d, lane, tried, results, *rest)
 
     monkeypatch.setattr(swing, "_choose", spy)
     pruned = drive(net, [(bus, c)], options=DriveOptions(use_sumo=False))[0]
