@@ -12,21 +12,24 @@ from importlib import import_module
 from clearance.reports.study.lifetime import Stopped, stop_on_signals
 from clearance.vehicles.errors import ClearanceError, InputError
 
-__all__ = ["COMMANDS", "OWN_LOGGERS", "build_parser", "main"]
+__all__ = ["COMMANDS", "OWN_LOGGERS", "build_parser", "chosen_command", "main"]
 
 #: Sub-commands in the order ``clearance --help`` lists them; each names a module
 #: ``clearance.reports.cli.<name>`` with ``add_parser(subparsers)`` and ``run(args) -> int``.
 COMMANDS = ("report", "vehicles", "curves", "simulate", "compare", "check")
 
 
-def build_parser() -> argparse.ArgumentParser:
+def build_parser(only: str | None = None) -> argparse.ArgumentParser:
+    """The command's parser; with ``only`` (a name of :data:`COMMANDS`), that sub-command's
+    alone, so that a run imports only what its sub-command needs (``check`` does not load
+    the drawing modules ``report`` does)."""
     parser = argparse.ArgumentParser(
         prog="clearance",
         description="Turning-circle and swept-path clearance of SUMO networks for vehicle tables.",
     )
     parser.add_argument("-v", "--verbose", action="count", default=0, help="log more (-vv: debug)")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")
-    for name in COMMANDS:
+    for name in COMMANDS if only is None else (only,):
         try:
             module = import_module(f"clearance.reports.cli.{name}")
         except ModuleNotFoundError as exc:
@@ -47,8 +50,23 @@ OWN_LOGGERS = ("clearance",)
 EXIT_OK, EXIT_NOT_CLEAR, EXIT_BAD_INPUT, EXIT_INTERNAL = 0, 1, 2, 3
 
 
+def chosen_command(argv: Sequence[str]) -> str | None:
+    """The sub-command ``argv`` names: its first word that is not an option, when that is
+    one of :data:`COMMANDS` (the options before it, ``-v``, take no value).
+
+    Examples
+    --------
+    >>> chosen_command(["-v", "check", "-n", "x.net.xml"]), chosen_command(["--help"])
+    ('check', None)
+    >>> chosen_command(["chekc"]) is None  # argparse then names the choices
+    True
+    """
+    first = next((a for a in argv if not a.startswith("-")), None)
+    return first if first in COMMANDS else None
+
+
 def main(argv: Sequence[str] | None = None) -> int:
-    parser = build_parser()
+    parser = build_parser(chosen_command(sys.argv[1:] if argv is None else argv))
     args = parser.parse_args(argv)
     verbose = args.verbose + getattr(args, "verbose_sub", 0)
     logging.basicConfig(level=logging.WARNING, format="%(levelname)s: %(message)s")

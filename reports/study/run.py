@@ -82,16 +82,19 @@ def batch_sizes(runs: int, workers: int, largest: int = BATCH_RUNS,
                 smallest: int = MIN_BATCH_RUNS) -> Iterator[int]:
     """The sizes of a network's batches, in order: each the runs left shared among twice
     the workers, within ``smallest`` and ``largest``, so that the last batches are small
-    and no worker waits long for another's last batch (guided scheduling). The sizes
+    and no worker waits long for another's last batch (guided scheduling). A study too
+    small to give every worker ``smallest`` runs (a junction) is shared among them evenly
+    instead: each worker then starts SUMO for fewer runs, but none sits idle. The sizes
     depend only on the counts, never on timing, and the results not on the sizes.
 
     Examples
     --------
     >>> list(batch_sizes(1000, 2))
     [250, 188, 141, 106, 79, 59, 50, 50, 50, 27]
-    >>> list(batch_sizes(30, 2)), list(batch_sizes(0, 2))
-    ([30], [])
+    >>> list(batch_sizes(29, 2)), list(batch_sizes(1, 2)), list(batch_sizes(0, 2))
+    ([15, 14], [1], [])
     """
+    smallest = min(smallest, -(-runs // max(workers, 1)))
     left = runs
     while left > 0:
         size = min(left, max(smallest, min(largest, -(-left // (2 * workers)))))

@@ -247,3 +247,22 @@ def test_real_network_golden_round_trip(tmp_path, capsys, net, selection, odd):
     assert f"NEW curve, not in the golden file: {rows.network.iloc[0]}: {removed} (P " in out
     assert f"GONE curve, in the golden file but not found: {rows.network.iloc[0]}: {added} " in out
     assert f"{n} expected verdicts" in out and "1 new curves, 0 new runs, 1 gone curves" in out
+
+
+def test_check_builds_its_own_parser_without_the_drawing_modules():
+    """A junction's check starts cold in seconds: parsing ``check`` imports neither
+    matplotlib nor the report's drawing modules (``report`` needs them), and an unknown
+    word still lists every sub-command."""
+    import subprocess
+    import sys
+
+    code = ("import sys; from clearance.reports.cli.main import build_parser, chosen_command;"
+            "p = build_parser(chosen_command(['-v', 'check', '-n', 'x.net.xml']));"
+            "print(sorted(p._subparsers._group_actions[0].choices),"
+            " 'matplotlib' in sys.modules, 'clearance.reports.documents.writer' in sys.modules)")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                         check=True).stdout
+    assert out.strip() == "['check'] False False"
+    bad = subprocess.run([sys.executable, "-m", "clearance.reports.cli.main", "chekc"],
+                         capture_output=True, text=True)
+    assert bad.returncode == 2 and "report" in bad.stderr and "check" in bad.stderr

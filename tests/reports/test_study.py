@@ -80,11 +80,14 @@ def test_batch_sizes_shrink_toward_the_end_and_cover_every_run():
         assert sum(sizes) == runs
         assert all(a >= b for a, b in zip(sizes, sizes[1:-1], strict=False))  # the last: rest
         assert max(sizes) <= BATCH_RUNS
-        assert all(s >= MIN_BATCH_RUNS for s in sizes[:-1])
+        assert all(s >= min(MIN_BATCH_RUNS, -(-runs // workers)) for s in sizes[:-1])
         # the last batch in flight is no more than an even share of what was left
         assert sizes[-1] <= max(MIN_BATCH_RUNS, -(-runs // (2 * workers)))
     # a quarter of what is left, at most 400: 400 while 1,600 or more are left
     assert list(batch_sizes(6000, 2))[:14] == [400] * 12 + [300, 225]
+    # a junction's few runs: one even share per worker, none idle
+    assert list(batch_sizes(29, 2)) == [15, 14] and list(batch_sizes(73, 2)) == [37, 36]
+    assert list(batch_sizes(120, 4)) == [30] * 4
 
 
 def flattened(text: str) -> str:
