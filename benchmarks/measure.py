@@ -146,6 +146,38 @@ def verdict_counts(csv_path: Path) -> tuple[Counter[tuple[str, str, str]], int]:
     return counts, n
 
 
+#: Verdicts, best first, for comparing a study's with a baseline's.
+BEST_FIRST = ("clear", "encroaches", "fails", "cannot-turn", "error")
+
+
+def against_baseline(csv_path: Path, baseline: Path) -> str:
+    """How a ``clearance.csv``'s verdicts compare with a baseline's (``.csv`` or
+    ``.csv.gz``), run by run: the same, better, worse, and the runs either lacks; and the
+    baseline's and the study's counts per verdict."""
+    import gzip
+
+    def rows(path: Path) -> dict[tuple[str, str, str], str]:
+        opener = gzip.open if path.suffix == ".gz" else open
+        with opener(path, "rt", newline="") as fh:
+            return {(r["network"], r["vehicle"], r["curve_id"]): r["verdict"]
+                    for r in csv.DictReader(fh)}
+
+    old, new = rows(baseline), rows(csv_path)
+    rank = {v: i for i, v in enumerate(BEST_FIRST)}
+    common = old.keys() & new.keys()
+    better = sum(rank[new[k]] < rank[old[k]] for k in common)
+    worse = sum(rank[new[k]] > rank[old[k]] for k in common)
+
+    def counts(v: dict[tuple[str, str, str], str]) -> str:
+        c = Counter(v.values())
+        return ", ".join(f"{c[x]:,} {x}" for x in BEST_FIRST if c[x])
+
+    return (f"against {baseline.name}: {len(common) - better - worse:,} the same, {better:,} "
+            f"better, {worse:,} worse, {len(old.keys() - new.keys()):,} missing, "
+            f"{len(new.keys() - old.keys()):,} new\n    baseline: {counts(old)}\n"
+            f"    this run: {counts(new)}")
+
+
 def clearance_cmd(*args: str) -> list[str]:
     """The ``clearance`` command of this interpreter's environment."""
     return [sys.executable, "-m", "clearance.reports.cli.main", *args]

@@ -27,6 +27,8 @@ parallel as before. Results never depend on which worker ran a task.
 
 from __future__ import annotations
 
+import ctypes
+import ctypes.util
 import logging
 import multiprocessing
 import os
@@ -42,7 +44,7 @@ from clearance.reports.study.lifetime import worker_start
 from clearance.vehicles.errors import OptionError
 
 __all__ = ["DaskExecutor", "Executor", "LocalExecutor", "SharedFile", "WorkerLost", "cores",
-           "make_executor", "run_isolated"]
+           "make_executor", "run_isolated", "trim_memory", "trimmed"]
 
 log = logging.getLogger(__name__)
 
@@ -70,6 +72,34 @@ def cores() -> int:
         return max(1, len(os.sched_getaffinity(0)))
     except (AttributeError, OSError):  # pragma: no cover - not Linux
         return max(1, os.cpu_count() or 1)
+
+
+def trim_memory() -> None:
+    """Give the heap's free pages back to the system (glibc's ``malloc_trim``; nothing
+    elsewhere).
+
+    A run's envelopes and margins allocate and free many small GEOS geometries; glibc keeps
+    the freed pages, and a worker's resident set grew by some 200 MB over a town's batches
+    (Brunswick) that it never used again. Trimmed after each task, it stays near what the
+    worker holds.
+
+    Examples
+    --------
+    >>> trim_memory()  # never fails; nothing to see but the resident set
+    """
+    try:
+        libc = ctypes.CDLL(ctypes.util.find_library("c") or "libc.so.6")
+        libc.malloc_trim(0)
+    except (OSError, AttributeError):  # pragma: no cover - not glibc
+        pass
+
+
+def trimmed(fn: Callable[..., R], *args: Any) -> R:
+    """``fn(*args)``, then :func:`trim_memory` (what a local worker runs for a task)."""
+    try:
+        return fn(*args)
+    finally:
+        trim_memory()
 
 
 class WorkerLost(RuntimeError):
@@ -105,6 +135,12 @@ class Executor(ABC):
 
     def recover(self) -> None:
         """Make the executor usable again after a worker died (default: nothing to do)."""
+        return None
+
+    def release(self) -> None:
+        """Let the workers drop what their finished tasks left them (a study's network, its
+        areas, SUMO's copy of it) before different work (the drawings) comes: local workers
+        are stopped, and the next task starts fresh ones (default: nothing to do)."""
         return None
 
     def share(self, path: str | Path) -> SharedFile:
@@ -150,12 +186,15 @@ class LocalExecutor(Executor):
         return self._pool
 
     def submit(self, fn: Callable[..., R], *args: Any) -> Future[R]:
-        return self._get().submit(fn, *args)
+        return self._get().submit(trimmed, fn, *args)
 
     def recover(self) -> None:
         if self._pool is not None:
             self._pool.shutdown(wait=True, cancel_futures=True)
             self._pool = None
+
+    def release(self) -> None:
+        self.recover()
 
     def close(self) -> None:
         if self._pool is not None:

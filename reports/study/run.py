@@ -53,7 +53,12 @@ from clearance.reports.results.provenance import set_provenance
 from clearance.reports.results.records import COLUMNS, VERDICT_ORDER, RunRecord
 from clearance.reports.results.vertical import add_vertical
 from clearance.reports.study.batch import Batch, bare, lost_batch, run_batch, split_batch
-from clearance.reports.study.executor import Executor, make_executor, run_isolated
+from clearance.reports.study.executor import (
+    Executor,
+    make_executor,
+    run_isolated,
+    trim_memory,
+)
 from clearance.vehicles.errors import LimitError, NetworkError, OptionError
 from clearance.vehicles.files import env_limit
 from clearance.vehicles.table import VehicleTable
@@ -346,6 +351,9 @@ def run_study(
         raise
     if executor is None:
         ex.close()
+    else:  # what comes next (the drawings) starts from fresh workers
+        ex.release()
+    trim_memory()
     order = {v.name: i for i, v in enumerate(vehicles)}
     net_order = {n.name: i for i, n in enumerate(nets)}
     curve_order = {(n.name, c.curve_id): i for n in nets for i, c in enumerate(n.curves)}
