@@ -589,7 +589,6 @@ def extract_curves(
     kinds: Iterable[str] = DEFAULT_KINDS,
     options: CurveOptions | None = None,
     areas: bool = True,
-    only: Callable[[str, str], bool] | None = None,
 ) -> list[Curve]:
     """Every curve of the requested kinds, sorted by kind then ``curve_id``.
 
@@ -607,10 +606,6 @@ def extract_curves(
         (:class:`clearance.networks.area_book.AreaBook`);
         :func:`clearance.networks.areas.attach_areas` builds
         and keeps them all at once.
-    only
-        Keep only the curves for which ``only(curve_id, junction)`` is true, told before
-        they are measured (a junction's check measures its own curves, not the network's);
-        each kept curve is the one the whole extraction gives.
 
     Raises
     ------
@@ -623,30 +618,26 @@ def extract_curves(
         raise OptionError(f"unknown curve kind(s) {', '.join(bad)}; choose from {', '.join(KINDS)}")
     opts = options or CurveOptions()
     with gc_paused():  # hundreds of thousands of objects that live on (see gc_paused)
-        return _extract(net, wanted, opts, areas, only)
+        return _extract(net, wanted, opts, areas)
 
 
-def _extract(net: Network, wanted: list[str], opts: CurveOptions, areas: bool,
-             only: Callable[[str, str], bool] | None = None) -> list[Curve]:
+def _extract(net: Network, wanted: list[str], opts: CurveOptions, areas: bool) -> list[Curve]:
     from clearance.networks.area_book import AreaBook
-
-    def kept(items: Iterable[Item]) -> Iterable[Item]:
-        return items if only is None else (it for it in items if only(it[0], it[2]))
 
     curves: list[Curve] = []
     if "turn" in wanted:
-        curves.extend(measure(net, kept(find_turns(net, opts)), opts))
+        curves.extend(measure(net, find_turns(net, opts), opts))
     if "uturn" in wanted:
-        curves.extend(measure(net, kept(find_turns(net, opts, uturns=True)), opts))
+        curves.extend(measure(net, find_turns(net, opts, uturns=True), opts))
     if "roundabout" in wanted:
-        curves.extend(measure(net, list(kept(find_roundabouts(net, opts))), opts))
+        curves.extend(measure(net, list(find_roundabouts(net, opts)), opts))
     ramp_edges: set[str] = set()
     if "ramp" in wanted or "bend" in wanted:
         ramps, ramp_edges = find_ramps(net, opts)
         if "ramp" in wanted:
-            curves.extend(c for c in ramps if only is None or only(c.curve_id, c.junction))
+            curves.extend(ramps)
     if "bend" in wanted:
-        curves.extend(measure(net, list(kept(find_bends(net, opts, ramp_edges))), opts))
+        curves.extend(measure(net, list(find_bends(net, opts, ramp_edges)), opts))
     order = {k: i for i, k in enumerate(KINDS)}
     curves.sort(key=lambda c: (order[c.kind], c.curve_id))
     if areas:  # the areas are built when first read

@@ -206,7 +206,7 @@ def load_selected(
     Only the selected kinds are extracted. When the selection also drops curves by
     junction or box, the curves are extracted without areas, filtered, and only the kept
     ones get an :class:`~clearance.networks.area_book.AreaBook` (so no area of a dropped curve is
-    ever built); a curve dropped by its junction or id is not even measured.
+    ever built).
     """
     selection = selection or Selection()
     kinds = selection.effective_kinds()
@@ -214,13 +214,7 @@ def load_selected(
         return extract_curves(net, kinds, options=options)
     from clearance.networks.area_book import AreaBook
 
-    ids, junctions = selection.curve_ids, frozenset(selection.junctions)
-
-    def only(curve_id: str, junction: str) -> bool:  # what can be told before measuring
-        return (ids is None or curve_id in ids) and (not junctions or junction in junctions)
-
-    kept = select(extract_curves(net, kinds, options=options, areas=False, only=only),
-                  selection)
+    kept = select(extract_curves(net, kinds, options=options, areas=False), selection)
     if kept:
         AreaBook(net, kept)
     return kept

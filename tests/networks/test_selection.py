@@ -56,33 +56,6 @@ def test_selected_curves_get_the_same_areas_as_a_full_extraction(roundabout):
     assert sum(len(b) for b in book.batches) == len(picked)
 
 
-@pytest.mark.parametrize("sample", ["intersection", "roundabout"])
-def test_a_junction_measures_only_its_curves_and_each_is_the_full_extractions(
-        sample, monkeypatch):
-    """Curves dropped by junction or id are not measured, and the ones kept are the
-    curves the whole extraction gives: the same centre lines, features and profiles."""
-    import clearance.networks.curves as curves
-
-    net = read_network(SAMPLES_DIR / sample / f"{sample}.net.xml")
-    full = {c.curve_id: c for c in extract_curves(net, areas=False)}
-    measured = []
-    real = curves._measure
-    monkeypatch.setattr(curves, "_measure", lambda n, items, o: (
-        measured.extend(it[0] for it in items), real(n, items, o))[1])
-    junction = sorted({c.junction for c in full.values()})[0]
-    picked = load_selected(net, Selection(junctions=(junction,)))
-    assert picked and {c.curve_id for c in picked} == {
-        i for i, c in full.items() if c.junction == junction}
-    assert set(measured) == {c.curve_id for c in picked}
-    for c in picked:
-        other = full[c.curve_id]
-        assert np.array_equal(c.centerline, other.centerline)
-        assert (c.core_start_m, c.core_end_m, c.turn_angle_deg, c.min_radius_m) == (
-            other.core_start_m, other.core_end_m, other.turn_angle_deg, other.min_radius_m)
-    ids = frozenset(list(full)[:3])
-    assert {c.curve_id for c in load_selected(net, Selection(curve_ids=ids))} == ids
-
-
 def test_bbox_keeps_curves_whose_feature_meets_the_box(intersection):
     curves = extract_curves(intersection, areas=False)
     t = intersection.junctions["T"]
