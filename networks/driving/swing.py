@@ -8,8 +8,11 @@ turn, and corner cuts toward the inside), all runs' candidates together in batch
 :attr:`~clearance.networks.driving.runs.DriveOptions.batch_size`
 (:func:`clearance.analysis.tracking.simulate_batch`),
 judges each one the follower could drive against the curve's areas over the whole
-manoeuvre (:func:`clearance.analysis.clearance.evaluate` with the candidate's window), and keeps the
-best (:func:`clearance.networks.driving.judging.rank`; the lane's result wins ties). A candidate
+manoeuvre (:func:`clearance.analysis.clearance.judge` with the candidate's window:
+:class:`clearance.networks.driving.trials.Trials`, which in the refinement's compass rounds
+leaves out the moves whose bound shows them worse than one judged), and keeps the
+best (:func:`clearance.networks.driving.judging.rank`; the lane's result wins ties), measured
+in full once chosen (:func:`clearance.analysis.clearance.evaluate`). A candidate
 the follower cannot drive within the lock and steering rate in that window is not judged (it
 ranks as ``cannot-turn``). The candidates go in rounds of growing size: round ``k``
 drives the ``k``-th amplitude of every shape (the held one with the middle apex cut) of

@@ -94,6 +94,9 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
     add_waivers_option(p)
     add_route_options(p)
     add_sheet_options(p)
+    p.add_argument("--svg", action="store_true",
+                   help="also write every figure as SVG (vector) beside its PNG under "
+                        "figures/ (the sheets under sheets/ are vector PDFs either way)")
     p.set_defaults(run=run)
 
 
@@ -122,7 +125,7 @@ def run(args: argparse.Namespace) -> int:
         waived = study_waivers(study.frame(), waivers) if waivers is not None else None
         t1 = time.perf_counter()
         write_report(study, staging, tables, args.units, waived, origin, executor, routes,
-                     sheets)
+                     sheets, svg=args.svg)
         log.info("report, figures, sheets and exports written in %.1f s",
                  time.perf_counter() - t1)
     frame = study.frame()

@@ -26,6 +26,7 @@ from clearance.reports.documents.figures import (
     worst_by_curve,
 )
 from clearance.reports.documents.html_images import COMPACT_MADE, compact_key, compact_png
+from clearance.reports.documents.plotting import PNG
 from clearance.reports.documents.report import Section
 from clearance.reports.documents.sheet_settings import DEFAULT_SHEETS, SheetSettings
 from clearance.reports.exports.study import (
@@ -207,17 +208,19 @@ class Drawings:
             future = None
         self._pending.append((drawing, key, future))
 
-    def curve_figure(self, study: Study, units: str
+    def curve_figure(self, study: Study, units: str, formats: tuple[str, ...] = PNG
                      ) -> Callable[[NetworkCurves, Curve, list[RunRecord], Path], Path]:
-        """A ``draw`` for :func:`clearance.reports.documents.report.build_sections`."""
+        """A ``draw`` for :func:`clearance.reports.documents.report.build_sections` (the
+        files of ``formats``, PNG first)."""
         def draw_figure(nc: NetworkCurves, curve: Curve, records: list[RunRecord],
                         stem: Path) -> Path:
             rel = stem.relative_to(self.folder).as_posix()
             task = CurveFigure(nc.name, str(nc.path), bare(curve), tuple(records), rel,
-                               study.table, units)
+                               study.table, units, formats)
+            kinds = ", ".join(f".{f}" for f in formats[1:])
             self.submit(Drawing(curve_figure_files, task, nc.name, "figure",
-                                f"figure of curve {curve.curve_id} ({rel}.png, .svg)",
-                                curve.curve_id), nc.path)
+                                f"figure of curve {curve.curve_id} ({rel}.png"
+                                + (f", {kinds})" if kinds else ")"), curve.curve_id), nc.path)
             return Path(f"{stem}.png")
         return draw_figure
 

@@ -40,6 +40,7 @@ from clearance.reports.documents.drawing import (
     view_bounds,
 )
 from clearance.reports.documents.plotting import (
+    PNG,
     add_north_arrow,
     add_scale_bar,
     new_figure,
@@ -114,8 +115,9 @@ def sites(curves: list[Curve], gap_m: float = 80.0, max_sites: int = 4) -> list[
 
 
 def plot_network(nc: NetworkCurves, frame: pd.DataFrame, stem: Path, marked: int = 8,
-                 units: str = "m") -> list[Path]:
-    """The network's plan, every curve's centre line coloured by its worst verdict.
+                 units: str = "m", formats: tuple[str, ...] = PNG) -> list[Path]:
+    """The network's plan, every curve's centre line coloured by its worst verdict (the
+    files of ``formats``, PNG first).
 
     One panel per site (curves close together); the ``marked`` worst curves are numbered,
     and the numbers match the report's list of worst curves.
@@ -163,7 +165,7 @@ def plot_network(nc: NetworkCurves, frame: pd.DataFrame, stem: Path, marked: int
                title="worst verdict over the vehicles (numbers: the worst curves, in order)",
                title_fontsize=8, bbox_to_anchor=(0.5, -0.02))
     fig.tight_layout(rect=(0, 0.07, 1, 1))
-    return save(fig, stem)
+    return save(fig, stem, formats)
 
 
 def core_points(curve: Curve) -> np.ndarray:
@@ -198,10 +200,10 @@ def shown_runs(nc: NetworkCurves, curve: Curve, records: Sequence[RunRecord],
 
 
 def plot_curve(nc: NetworkCurves, curve: Curve, records: list[RunRecord], stem: Path,
-               units_note: str = "", table: VehicleTable | None = None, units: str = "m"
-               ) -> list[Path]:
+               units_note: str = "", table: VehicleTable | None = None, units: str = "m",
+               formats: tuple[str, ...] = PNG) -> list[Path]:
     """The swept paths of ``records`` (one curve) over the plan
-    (:mod:`clearance.reports.documents.drawing`).
+    (:mod:`clearance.reports.documents.drawing`); the files of ``formats``, PNG first.
 
     With the study's vehicle ``table`` each run is driven again (model only) for its
     trajectory: the vehicle at intervals, wheel paths, dimensions, where it stops; the
@@ -219,7 +221,7 @@ def plot_curve(nc: NetworkCurves, curve: Curve, records: list[RunRecord], stem: 
                  f"{angle}{radius}{units_note}", fontsize=9)
     ax.legend(handles=handles, loc="upper center", bbox_to_anchor=(0.5, -0.07), ncol=3,
               fontsize=6.5, frameon=False, handlelength=3.2)
-    return save(fig, stem)
+    return save(fig, stem, formats)
 
 
 def scratch_files(make: Callable[[Path], object]) -> dict[str, bytes]:
@@ -258,14 +260,16 @@ class CurveFigure:
     stem: str
     table: VehicleTable | None
     units: str = "m"
+    formats: tuple[str, ...] = PNG
 
 
 def draw_curve_figure(task: CurveFigure, shared: SharedFile) -> dict[str, bytes]:
     """Draw ``task``'s figure (:func:`plot_curve`) in this process, on its own copy of the
-    network; the files (PNG and SVG) by their paths relative to the report's folder."""
+    network; the files (PNG, and SVG when asked) by their paths relative to the report's
+    folder."""
     net = worker_network(shared)
     with_areas(net, [task.curve])
     nc = NetworkCurves(task.network, Path(task.path), net, [task.curve])
     return scratch_files(lambda root: plot_curve(nc, task.curve, list(task.records),
                                                  root / task.stem, table=task.table,
-                                                 units=task.units))
+                                                 units=task.units, formats=task.formats))

@@ -14,11 +14,11 @@ from __future__ import annotations
 import base64
 import hashlib
 import html
-import io
 from collections.abc import Sequence
 from pathlib import Path
 
 from clearance.reports.documents.colours import VERDICT_COLOURS
+from clearance.reports.documents.palette_png import quantised_png
 
 __all__ = ["COMPACT_MADE", "HTML_IMAGE_COLOURS", "HTML_IMAGE_WIDTH_PX", "compact_key",
            "compact_png", "img_tag"]
@@ -51,37 +51,17 @@ def compact_key(data: bytes, width_px: int = HTML_IMAGE_WIDTH_PX,
 def compact_png(png: Path, width_px: int = HTML_IMAGE_WIDTH_PX,
                 colours: int = HTML_IMAGE_COLOURS, kept: Sequence[str] = ()) -> bytes:
     """A figure made small for the HTML: scaled down to ``width_px`` and quantised to a
-    palette of ``colours`` (PNG, with Pillow, which matplotlib requires); the verdict
-    colours (:data:`~clearance.reports.documents.colours.VERDICT_COLOURS`) and the ``kept``
-    ones (``#rrggbb``) are in the palette whatever the median cut finds, and the pixels
-    nearest each of them take it exactly (thin coloured lines on a grey plan would otherwise
-    lose their colour, and encroaches orange merge with fails red).
+    palette of ``colours`` (:func:`~clearance.reports.documents.palette_png.quantised_png`:
+    the verdict colours and the ``kept`` ones exactly).
 
     The full-resolution PNG and the SVG stay in ``figures/``.
     """
-    from PIL import Image
-
     data = Path(png).read_bytes()
     kept = list(dict.fromkeys([*VERDICT_COLOURS.values(), *kept]))
     made = COMPACT_MADE.get(compact_key(data, width_px, colours, kept))
     if made is not None:
         return made
-    with Image.open(io.BytesIO(data)) as opened:
-        im = opened.convert("RGB")
-        if im.width > width_px:
-            im = im.resize((width_px, round(im.height * width_px / im.width)),
-                           Image.Resampling.LANCZOS)
-        # the median cut's palette less room for the kept colours, then those exactly
-        cut = im.quantize(colours - len(kept), method=Image.Quantize.MEDIANCUT,
-                          dither=Image.Dither.NONE)
-        entries = (cut.getpalette() or [])[:3 * (colours - len(kept))]
-        entries += [b for c in kept for b in bytes.fromhex(c.lstrip("#"))]
-        palette = Image.new("P", (1, 1))
-        palette.putpalette(entries + entries[:3] * (256 - len(entries) // 3))
-        im = im.quantize(palette=palette, dither=Image.Dither.NONE)
-        buf = io.BytesIO()
-        im.save(buf, "PNG", optimize=True)
-        return buf.getvalue()
+    return quantised_png(data, colours, kept, width_px)
 
 
 def img_tag(png: Path, alt: str, lazy: bool = True, kept: Sequence[str] = ()) -> str:

@@ -1,4 +1,5 @@
-"""Shared figure helpers: a headless backend, one style, PNG and SVG written atomically,
+"""Shared figure helpers: a headless backend, one style, PNG and SVG written atomically
+(the PNG on a palette, the SVG's paths to a hundredth of a point),
 one colour per vehicle, plan axes, scale bars and north arrows in the report's units."""
 
 from __future__ import annotations
@@ -19,14 +20,16 @@ from matplotlib.axes import Axes  # noqa: E402
 from matplotlib.figure import Figure  # noqa: E402
 from matplotlib.patches import Rectangle  # noqa: E402
 
+from clearance.reports.documents.palette_png import quantised_png  # noqa: E402
 from clearance.reports.output.atomic import write_bytes_atomic  # noqa: E402
 from clearance.reports.results.units import length_scale  # noqa: E402
 
 if TYPE_CHECKING:
     from matplotlib.typing import RcKeyType
 
-__all__ = ["PALETTE", "STYLE", "add_north_arrow", "add_scale_bar", "new_figure", "nice_length",
-           "nice_step", "plan_axes", "save", "svg_rounded", "unit_name", "vehicle_colours"]
+__all__ = ["PALETTE", "PNG", "PNG_SVG", "STYLE", "add_north_arrow", "add_scale_bar", "new_figure",
+           "nice_length", "nice_step", "plan_axes", "save", "svg_rounded", "unit_name",
+           "vehicle_colours"]
 
 STYLE: dict[RcKeyType, Any] = {
     "font.size": 9,
@@ -46,9 +49,16 @@ def new_figure(width_in: float = 7.0, height_in: float = 4.5) -> tuple[Figure, A
     return fig, ax
 
 
-def save(fig: Figure, path_stem: str | Path, formats: tuple[str, ...] = ("png", "svg")
+#: A report's figures: PNG; with ``clearance report --svg``, SVG beside each.
+PNG: tuple[str, ...] = ("png",)
+PNG_SVG: tuple[str, ...] = ("png", "svg")
+
+
+def save(fig: Figure, path_stem: str | Path, formats: tuple[str, ...] = PNG_SVG
          ) -> list[Path]:
-    """Write ``path_stem.png`` (and ``.svg``) atomically; close the figure. The SVG's path
+    """Write ``path_stem.png`` (and ``.svg``) atomically; close the figure. The PNG is on a
+    palette of 256 colours, the verdicts' and the vehicles' (:data:`PALETTE`) exact
+    (:func:`~clearance.reports.documents.palette_png.quantised_png`); the SVG's path
     coordinates are written to a hundredth of a point (:func:`svg_rounded`)."""
     out = []
     with plt.rc_context(STYLE):
@@ -56,7 +66,11 @@ def save(fig: Figure, path_stem: str | Path, formats: tuple[str, ...] = ("png", 
             buf = io.BytesIO()
             metadata = {"Date": None} if fmt == "svg" else {"Software": None}
             fig.savefig(buf, format=fmt, bbox_inches="tight", metadata=metadata)
-            data = svg_rounded(buf.getvalue()) if fmt == "svg" else buf.getvalue()
+            data = buf.getvalue()
+            if fmt == "svg":
+                data = svg_rounded(data)
+            elif fmt == "png":  # a third of the size, the meaningful colours exact
+                data = quantised_png(data, kept=PALETTE, fast=True)
             out.append(write_bytes_atomic(Path(f"{path_stem}.{fmt}"), data))
     plt.close(fig)
     return out

@@ -35,6 +35,7 @@ from clearance.reports.documents.not_clear import (
     not_clear_html,
     run_rank,
 )
+from clearance.reports.documents.plotting import PNG
 from clearance.reports.documents.profile_figure import VerticalEntry, vertical_entries
 from clearance.reports.documents.wording import (
     SYMBOL,
@@ -124,8 +125,9 @@ class Section:
 def build_sections(study: Study, folder: Path, units: str = "m",
                    waived: Waived | None = None,
                    draw: Callable[[NetworkCurves, Curve, list[RunRecord], Path], Path] | None
-                   = None) -> list[Section]:
-    """Draw every figure under ``folder/figures`` and collect what the documents show.
+                   = None, formats: tuple[str, ...] = PNG) -> list[Section]:
+    """Draw every figure under ``folder/figures`` (the files of ``formats``, PNG first) and
+    collect what the documents show.
 
     ``draw(nc, curve, records, stem)``, when given, draws a curve's figure instead of
     :func:`clearance.reports.documents.figures.plot_curve` (in a worker: ``clearance report``) and
@@ -150,8 +152,9 @@ def build_sections(study: Study, folder: Path, units: str = "m",
     sections = []
     for nc in study.networks:
         f = frame[frame.network == nc.name]
-        # stems: plotting.save appends .png and .svg
-        plan = plot_network(nc, f, figs / file_name([nc.name, "plan"], room=4), units=units)[0]
+        # stems: plotting.save appends .png (and .svg)
+        plan = plot_network(nc, f, figs / file_name([nc.name, "plan"], room=4), units=units,
+                            formats=formats)[0]
         worst = worst_by_curve(f)
         counts = {v: int((f.verdict == v).sum()) for v in sorted(VERDICT_ORDER,
                                                                    key=VERDICT_ORDER.__getitem__)
@@ -183,7 +186,8 @@ def build_sections(study: Study, folder: Path, units: str = "m",
             recs.sort(key=lambda r: (VERDICT_ORDER[r.verdict], r.margin_m))
             shown = pick_envelopes(recs)
             stem = figs / file_name([nc.name, "curve", cid], room=4)
-            png = (plot_curve(nc, by_id[cid], shown, stem, table=study.table, units=units)[0]
+            png = (plot_curve(nc, by_id[cid], shown, stem, table=study.table, units=units,
+                              formats=formats)[0]
                    if draw is None else draw(nc, by_id[cid], shown, stem))
             section.curves.append(CurveEntry(cid, png, recs, [r.vehicle for r in shown],
                                              serves_text(recs)))

@@ -22,6 +22,7 @@ from clearance.networks.plot import plot_plan
 from clearance.reports.documents.figures import COLOURS, core_points
 from clearance.reports.documents.html_images import img_tag
 from clearance.reports.documents.plotting import (
+    PNG,
     add_north_arrow,
     add_scale_bar,
     new_figure,
@@ -81,8 +82,9 @@ def route_headline(routes: RouteStudy, route_id: str, vehicle: str) -> str:
 
 
 def plot_route(nc: NetworkCurves, routes: RouteStudy, route_id: str, vehicle: str,
-               stem: Path, units: str = "m") -> list[Path]:
-    """The map of one route for one vehicle (see the module docstring); its files."""
+               stem: Path, units: str = "m", formats: tuple[str, ...] = PNG) -> list[Path]:
+    """The map of one route for one vehicle (see the module docstring); its files (those
+    of ``formats``, PNG first)."""
     route = next(r for r in routes.routes if r.route_id == route_id)
     rows = [r for r in routes.rows if r.route.route_id == route_id and r.vehicle == vehicle]
     net = nc.network
@@ -133,12 +135,14 @@ def plot_route(nc: NetworkCurves, routes: RouteStudy, route_id: str, vehicle: st
                title="the route (blue band); each passage coloured; numbers: order along "
                      "the route of the passages to look at", title_fontsize=7.5)
     fig.tight_layout(rect=(0, 0.08, 1, 1))
-    return save(fig, stem)
+    return save(fig, stem, formats)
 
 
-def route_maps(routes: RouteStudy, folder: Path, units: str = "m") -> dict[tuple[str, str], Path]:
+def route_maps(routes: RouteStudy, folder: Path, units: str = "m",
+               formats: tuple[str, ...] = PNG) -> dict[tuple[str, str], Path]:
     """Every route's map for every vehicle but the baseline (all vehicles without one),
-    under ``folder/figures/routes/``; the PNG of each (route, vehicle)."""
+    under ``folder/figures/routes/`` (the files of ``formats``); the PNG of each (route,
+    vehicle)."""
     nc = routes.study.networks[0]
     vehicles = [v for v in routes.study.table.names if v != routes.baseline] or \
         list(routes.study.table.names)
@@ -147,7 +151,7 @@ def route_maps(routes: RouteStudy, folder: Path, units: str = "m") -> dict[tuple
         for v in vehicles:
             stem = folder / "figures" / "routes" / file_name([route.route_id, v], "")
             out[(route.route_id, v)] = plot_route(nc, routes, route.route_id, v, stem,
-                                                  units)[0]
+                                                  units, formats)[0]
     return out
 
 

@@ -16,6 +16,7 @@ from pathlib import Path
 
 from clearance.reports.documents.drawings import Drawings, network_tasks
 from clearance.reports.documents.markdown import markdown
+from clearance.reports.documents.plotting import PNG, PNG_SVG
 from clearance.reports.documents.report import Section, anchor, build_sections, html_document
 from clearance.reports.documents.route_maps import route_maps, routes_html
 from clearance.reports.documents.sheet_settings import DEFAULT_SHEETS, SheetSettings
@@ -55,13 +56,13 @@ def write_report(study: Study, folder: Path, tables: list[Path], units: str = "m
                  waived: Waived | None = None, origin: tuple[float, float] | None = None,
                  executor: Executor | None = None,
                  routes: RouteStudy | None = None,
-                 sheets: SheetSettings = DEFAULT_SHEETS) -> None:
+                 sheets: SheetSettings = DEFAULT_SHEETS, svg: bool = False) -> None:
     """Write every output of ``study`` into ``folder`` (which must be new or empty);
     ``waived`` runs are shown as such (:mod:`clearance.reports.results.waivers`); ``origin`` (lat,
     lon) places the networks without a projection in the GeoJSON exports; ``sheets`` says
     which runs get a sheet (a route study's baseline is their ghost unless another is
     named). With ``executor`` the curve figures, sheets and exports are drawn in its workers
-    (:class:`Drawings`)."""
+    (:class:`Drawings`). Figures are PNG; ``svg``: an SVG beside each."""
     from clearance.reports.documents.sheets import write_sheets
 
     if routes is not None and routes.baseline and not sheets.ghost:
@@ -75,9 +76,10 @@ def write_report(study: Study, folder: Path, tables: list[Path], units: str = "m
     for nc in study.networks:
         write_patches(folder / "patches", nc.name, nc.network, nc.curves,
                       [r for r in study.records if r.network == nc.name], study.table)
+    formats = PNG_SVG if svg else PNG
     if executor is None:
         exports = write_exports(study, folder, origin)
-        sections = build_sections(study, folder, units, waived)
+        sections = build_sections(study, folder, units, waived, formats=formats)
         write_sheets(study, folder / "sheets", tables, units, sheets)
     else:
         drawings = Drawings(executor, folder)
@@ -86,19 +88,21 @@ def write_report(study: Study, folder: Path, tables: list[Path], units: str = "m
         exports = {nc.name: export_names(nc.name, georeferenced(nc, origin))
                    for nc in study.networks}
         sections = build_sections(study, folder, units, waived,
-                                  draw=drawings.curve_figure(study, units))
+                                  draw=drawings.curve_figure(study, units, formats),
+                                  formats=formats)
         drawings.finish()
         drawings.write_sheets(study, tables, sheets)
         drawings.mark_lost(sections, exports)
-    first = _routes_section(routes, sections, folder, units) if routes is not None else []
+    first = (_routes_section(routes, sections, folder, units, formats) if routes is not None
+             else [])
     write_text_atomic(folder / "report.md", markdown(study, sections, folder, units))
     write_text_atomic(folder / "report.html", html_document(study, sections, units, exports,
                                                             first))
 
 
 def _routes_section(routes: RouteStudy, sections: list[Section], folder: Path,
-                    units: str) -> list[str]:
+                    units: str, formats: tuple[str, ...]) -> list[str]:
     """The routes' maps, drawn here, and their section of report.html (each passage linked
     to its curve's section where the report has one)."""
     links = {c.curve_id: anchor(s.name, c.curve_id) for s in sections for c in s.curves}
-    return routes_html(routes, route_maps(routes, folder, units), links)
+    return routes_html(routes, route_maps(routes, folder, units, formats), links)

@@ -14,6 +14,7 @@ from clearance.reports.documents.drawing import draw_curve, overreach
 from clearance.reports.documents.figures import plot_curve, shown_runs
 from clearance.reports.documents.plotting import (
     PALETTE,
+    PNG_SVG,
     add_scale_bar,
     new_figure,
     plan_axes,
@@ -111,7 +112,8 @@ def test_the_curve_drawing_hatches_the_conflict_and_says_where_a_run_stops(study
                    "outside its own lanes (paved)", "edge of pavement", "own lanes"):
         assert needed in labels
     assert not any(t.endswith(" m") for t in texts)
-    png, svg = plot_curve(nc, curve, records, tmp_path / "fig", table=study.table, units="ft")
+    png, svg = plot_curve(nc, curve, records, tmp_path / "fig", table=study.table, units="ft",
+                          formats=PNG_SVG)
     assert png.stat().st_size > 10_000 and "<pattern" in svg.read_text()
 
 

@@ -37,3 +37,31 @@ def test_saved_svg_paths_are_the_figures_to_a_hundredth_of_a_point(tmp_path):
         assert a.shape == b.shape and np.abs(a - b).max() < 0.01
     assert b"37.123456" in written  # the title's text is not touched
     assert len(written) < 0.95 * len(raw.getvalue())
+
+
+def test_saved_png_is_on_a_palette_that_keeps_verdict_and_vehicle_colours(tmp_path):
+    """A figure of thin vehicle lines and verdict fills on a smooth background: the PNG is
+    palette-based, a third of matplotlib's or less, and every vehicle and verdict colour
+    drawn is in it exactly."""
+    from PIL import Image
+
+    from clearance.reports.documents.colours import VERDICT_COLOURS
+    from clearance.reports.documents.plotting import PALETTE
+
+    fig, ax = new_figure()
+    ax.imshow(np.linspace(0.0, 1.0, 400 * 300).reshape(300, 400), cmap="Greys",
+              extent=(0, 40, 0, 30))
+    for k, colour in enumerate(PALETTE[:8]):
+        ax.plot([1, 39], [1 + k, 2 + k], color=colour, lw=0.8)
+    for k, colour in enumerate(VERDICT_COLOURS.values()):
+        ax.fill([5 + 6 * k, 9 + 6 * k, 9 + 6 * k], [15, 15, 25], color=colour)
+    raw = io.BytesIO()
+    with plt.rc_context(STYLE):
+        fig.savefig(raw, format="png", bbox_inches="tight")
+    png, _ = save(fig, tmp_path / "fig")
+    with Image.open(png) as im:
+        assert im.mode == "P"
+        found = {"#" + bytes(c[1]).hex() for c in im.convert("RGB").getcolors(1 << 16)}
+    assert set(PALETTE[:8]) <= found
+    assert set(VERDICT_COLOURS.values()) - {"#000000"} <= found
+    assert png.stat().st_size < 0.5 * len(raw.getvalue())

@@ -181,7 +181,8 @@ def test_markdown_links_its_figures(report):
     assert links
     for link in links:
         png = report / link
-        assert png.is_file() and png.with_suffix(".svg").is_file()
+        assert png.is_file()
+    assert not list((report / "figures").rglob("*.svg"))  # SVG only when asked (--svg)
 
 
 def test_geojson_is_valid(report, rows):
@@ -362,7 +363,9 @@ def test_a_report_replaces_its_own_report_and_one_from_before_markers(report, tm
 
 def test_analytic_method_and_feet(tmp_path):
     out = tmp_path / "a"
-    assert run_report(out, "--method", "analytic", "--units", "ft") == 0
+    assert run_report(out, "--method", "analytic", "--units", "ft", "--svg") == 0
+    pngs = sorted((out / "figures").rglob("*.png"))
+    assert pngs and all(p.with_suffix(".svg").is_file() for p in pngs)  # --svg: each
     with open(out / "clearance.csv", newline="") as fh:
         got = list(csv.DictReader(fh))
     assert {r["method"] for r in got} == {"analytic"}
