@@ -87,7 +87,7 @@ def test_simulate_and_report_write_runs_of_a_250_character_curve_id(long_id_net,
 
     rep = tmp_path / "rep"
     assert main(["report", "-n", str(net), "--vehicle", "CITY-BUS", "--method", "analytic",
-                 "-o", str(rep)]) == 0
+                 "-o", str(rep), "--svg"]) == 0
     figures = sorted(p.name for p in (rep / "figures").iterdir())
     mine = file_name(["long", "curve", curve], room=4)
     assert f"{mine}.png" in figures and f"{mine}.svg" in figures  # the bus fails there
