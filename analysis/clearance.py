@@ -51,8 +51,7 @@ from clearance.analysis.tracking import TrackingRun
 from clearance.vehicles.errors import GeometryError
 
 __all__ = ["Areas", "Clearance", "END_SLACK_M", "NOTHING_SWEPT", "RunResult", "VERDICTS",
-           "classify", "end_boxes", "evaluate", "evaluate_batch", "judge", "judged_part",
-           "worst_level"]
+           "classify", "end_boxes", "evaluate", "evaluate_batch", "judge", "worst_level"]
 
 VERDICTS = ("cannot-turn", "fails", "encroaches", "clear")
 """Verdicts, worst first."""
@@ -365,7 +364,7 @@ def evaluate(
     ('clear', 0.55)
     """
     _check_offset(offset_m)
-    reason, judged, mask = judged_part(run, feature_m)
+    reason, judged, mask = _judged_part(run, feature_m)
     swept = swept_path(judged, tolerance_m=tolerance_m, width_step_m=width_step_m,
                        stations_m=feature_m)
     measured, boxes, ignore = _measured(swept.envelope, run, offset_m, trim_ends)
@@ -428,14 +427,14 @@ def judge(
     if areas.levels:
         return evaluate(run, areas, offset_m, tolerance_m, feature_m=feature_m).clearance
     _check_offset(offset_m)
-    reason, judged, _ = judged_part(run, feature_m)
+    reason, judged, _ = _judged_part(run, feature_m)
     measured, _, ignore = _measured(swept_envelope(judged, tolerance_m)[0], run, offset_m, True)
     clearance = classify(measured, areas, 0.0, reason, ignore=ignore)
     return dataclasses.replace(clearance, offset_m=float(offset_m),
                                reason=_grown(clearance, offset_m))
 
 
-def judged_part(run: TrackingRun, feature_m: tuple[float, float] | None
+def _judged_part(run: TrackingRun, feature_m: tuple[float, float] | None
                  ) -> tuple[str, TrackingRun, np.ndarray | None]:
     """What decides a run over a window (see :func:`evaluate`): the reason it cannot be
     driven there (``""``: it can), its samples there with one either side, and the mask."""

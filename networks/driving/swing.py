@@ -8,9 +8,8 @@ turn, and corner cuts toward the inside), all runs' candidates together in batch
 :attr:`~clearance.networks.driving.runs.DriveOptions.batch_size`
 (:func:`clearance.analysis.tracking.simulate_batch`),
 judges each one the follower could drive against the curve's areas over the whole
-manoeuvre (:func:`clearance.analysis.clearance.judge` with the candidate's window:
-:class:`clearance.networks.driving.trials.Trials`, which in the refinement's compass rounds
-leaves out the moves whose bound shows them worse than one judged), and keeps the
+manoeuvre (:func:`clearance.analysis.clearance.judge` with the candidate's window: its
+clearance alone), and keeps the
 best (:func:`clearance.networks.driving.judging.rank`; the lane's result wins ties), measured
 in full once chosen (:func:`clearance.analysis.clearance.evaluate`). A candidate
 the follower cannot drive within the lock and steering rate in that window is not judged (it
@@ -43,10 +42,11 @@ from collections.abc import Callable
 
 import numpy as np
 
-from clearance.analysis.clearance import Areas, Clearance, RunResult, evaluate
+from clearance.analysis.clearance import Areas, Clearance, RunResult, evaluate, judge
 from clearance.analysis.failures import GEOMETRY_FAILURES
+from clearance.analysis.feature import feature_mask, feature_reason
 from clearance.analysis.polyline import Path
-from clearance.analysis.tracking import TrackingRun, TrackingSettings
+from clearance.analysis.tracking import TrackingRun, TrackingSettings, simulate_batch
 from clearance.networks.driving.candidates import (
     LOOPED_EXCESS_DEG,
     Candidate,
@@ -55,7 +55,9 @@ from clearance.networks.driving.candidates import (
     excess_turning_deg,
 )
 from clearance.networks.driving.judging import (
+    BETTER_BY_M,
     TIERS,
+    decisive_margin,
     rank,
     swing_reason,
     tier,
@@ -70,7 +72,6 @@ from clearance.networks.driving.refine import (
 )
 from clearance.networks.driving.room import outside_rooms_m, outside_sign, search_turn_deg
 from clearance.networks.driving.runs import DrivenRun, DriveOptions, DriveStats, SwungLine
-from clearance.networks.driving.trials import Key, Trials, order_key
 
 __all__ = ["needs_swing", "swing_pass"]
 
@@ -166,8 +167,35 @@ def swing_pass(
         d.lane_result = d.result
     runs = [d for d in out if needs_swing(d)]
     measured = {id(d): m for d in runs if (m := _measure(d, paths, areas)) is not None}
-    trials = Trials(runs, areas, settings, options)
-    tried, drive_all = trials.tried, trials.drive
+    # every candidate the follower could drive, with its clearance (None: it could not be
+    # judged); the driven runs only of those that may still be kept (:func:`_prune`: a run's
+    # search drives hundreds), to be measured in full once one is chosen (:func:`_choose`)
+    tried: dict[int, list[tuple[Candidate, Clearance | None]]] = {id(d): [] for d in runs}
+    results: dict[int, dict[int, tuple[Clearance, TrackingRun]]] = {id(d): {} for d in runs}
+    judged = 0
+    count = 0
+
+    def drive_all(todo: list[tuple[DrivenRun, Candidate]]) -> list[tuple[float, ...]]:
+        """Drive the candidates and judge those the follower could drive; the order key of
+        each (:func:`_key`)."""
+        nonlocal count, judged
+        count += len(todo)
+        keys: list[tuple[float, ...]] = []
+        for lo in range(0, len(todo), options.batch_size):
+            chunk = todo[lo:lo + options.batch_size]
+            driven = simulate_batch([d.vehicle for d, _ in chunk], [c.path for _, c in chunk],
+                                    settings)
+            for (d, cand), run in zip(chunk, driven, strict=True):
+                res = None
+                if not feature_reason(run, feature_mask(run, cand.window_m)):
+                    res = _judged(d, cand, run, areas[d.curve.curve_id], options.offset_m)
+                    tried[id(d)].append((cand, res))
+                    if res is not None:
+                        judged += 1
+                        results[id(d)][len(tried[id(d)]) - 1] = (res, run)
+                        _prune(results[id(d)])
+                keys.append(_key(res, run.max_error_m))
+        return keys
 
     def lane_of(d: DrivenRun) -> RunResult:
         assert d.result is not None  # needs_swing: only runs with a result
@@ -194,23 +222,43 @@ def swing_pass(
     drive_all(wider)
     # a run still off the pavement by a little, or that no candidate could drive: refined
     refine = refine or RefineSearch()
-    before, t1, c1 = trials.count, time.perf_counter(), time.process_time()
+    before, t1, c1 = count, time.perf_counter(), time.process_time()
     refined = _refine([d for d in runs if id(d) in measured], measured, tried, lane_of,
                       drive_all, refine)
-    taken = sum(_choose(d, lane_of(d), tried[id(d)], trials.results[id(d)], search, refine,
+    taken = sum(_choose(d, lane_of(d), tried[id(d)], results[id(d)], search, refine,
                         areas[d.curve.curve_id], options.offset_m)
                 for d in runs)
     if stats is not None:
         stats.refine_runs += refined
-        stats.refine_candidates += trials.count - before
+        stats.refine_candidates += count - before
         stats.refine_s += time.perf_counter() - t1
         stats.refine_cpu_s += time.process_time() - c1
-        stats.swing_judged += trials.judged
-        stats.swing_screened += trials.screened
+        stats.swing_judged += judged
         stats.swing_s += time.perf_counter() - t0
         stats.swing_cpu_s += time.process_time() - c0
-        stats.swing_candidates += trials.count
+        stats.swing_candidates += count
     return taken
+
+
+def _prune(results: dict[int, tuple[Clearance, TrackingRun]]) -> None:
+    """Drop the results of a run's candidates that can no longer be kept: of a worse tier
+    than the best so far, or short of its decisive margin by more than
+    :data:`~clearance.networks.driving.judging.BETTER_BY_M`
+    (:func:`clearance.networks.driving.judging.rank` keeps a
+    path within that of the best of its tier, never one further short)."""
+    keys = {i: (tier(c), decisive_margin(c)) for i, (c, _) in results.items()}
+    top = max(keys.values())
+    for i, (t, m) in keys.items():
+        if t < top[0] or m < top[1] - BETTER_BY_M - 1e-9:
+            del results[i]
+
+
+def _key(clearance: Clearance | None, error_m: float) -> tuple[float, ...]:
+    """The order of candidates in the refinement: that of :func:`rank` (the tier, then the
+    decisive margin); among those the follower could not drive, the least lateral error."""
+    if clearance is None:
+        return (0.0, -math.inf, -error_m)
+    return (float(tier(clearance)), decisive_margin(clearance), 0.0)
 
 
 def _better(key: tuple[float, ...], than: tuple[float, ...], by_m: float) -> bool:
@@ -255,7 +303,7 @@ def _refine(runs: list[DrivenRun], measured: dict[int, _Run],
         # the family's best held or fitted paths as knots, best first; the lattice where
         # there are fewer than the starts wanted (none drivable, or the best a corner cut)
         order = sorted(range(len(tried[id(d)])),
-                       key=lambda i: order_key(tried[id(d)][i][1], 0.0), reverse=True)
+                       key=lambda i: _key(tried[id(d)][i][1], 0.0), reverse=True)
         seeds = list(dict.fromkeys(
             seed_knots(tried[id(d)][i][0], m.feature_m) for i in order
             if tried[id(d)][i][1] is not None
@@ -276,7 +324,7 @@ def _refine(runs: list[DrivenRun], measured: dict[int, _Run],
     return len(found)
 
 
-_Driver = Callable[..., list[Key]]
+_Driver = Callable[[list[tuple[DrivenRun, Candidate]]], list[tuple[float, ...]]]
 
 
 def _compass(starts: list[tuple[DrivenRun, tuple[tuple[float, ...], Knots]]],
@@ -303,8 +351,7 @@ def _compass(starts: list[tuple[DrivenRun, tuple[tuple[float, ...], Knots]]],
         if not moves:
             break
         best_move: dict[int, tuple[tuple[float, ...], Knots]] = {}
-        # a screened round: each start's moves judged only where they could be its best
-        for (i, k), key in zip(which, drive_all(moves, [i for i, _ in which]), strict=True):
+        for (i, k), key in zip(which, drive_all(moves), strict=True):
             if i not in best_move or key > best_move[i][0]:
                 best_move[i] = (key, k)
         for i in active:
@@ -338,7 +385,7 @@ def _choose(d: DrivenRun, lane: RunResult, tried: list[tuple[Candidate, Clearanc
         if best - 1 not in results:  # pruned: only after the best could not be measured
             best = 0
             break
-        cand, run = tried[best - 1][0], results[best - 1][1]  # kept: never pruned (prune)
+        cand, run = tried[best - 1][0], results[best - 1][1]  # kept: never pruned (_prune)
         try:
             res = evaluate(run, areas, offset_m, feature_m=cand.window_m)
             break
@@ -376,3 +423,15 @@ def _swing_m(cand: Candidate) -> float:
         return -cand.inside_m
     offsets = (cand.amplitude_m, cand.apex_m, cand.exit_m)
     return max(offsets) if max(offsets) > 0 else min(offsets)
+
+
+def _judged(d: DrivenRun, cand: Candidate, run: TrackingRun, areas: Areas,
+            offset_m: float) -> Clearance | None:
+    """A driven candidate's clearance over its window (``None`` where it cannot be judged):
+    :func:`clearance.analysis.clearance.judge`, its envelope without widths or tracks."""
+    try:
+        return judge(run, areas, offset_m, feature_m=cand.window_m)
+    except GEOMETRY_FAILURES as exc:
+        log.info("%s x %s: a swung path could not be judged: %s", d.vehicle.name,
+                 d.curve.curve_id, exc)
+        return None

@@ -149,7 +149,6 @@ def test_only_results_that_may_be_kept_are_held_and_the_choice_is_the_same(
     """A run's search drives hundreds of lines; the results of those that can no longer be
     kept are dropped as it goes, and the path kept is the one keeping them all gives."""
     import clearance.networks.driving.swing as swing
-    import clearance.networks.driving.trials as trials
 
     net, c = _turn(tmp_path, netconvert, "bus_prune", 3.0, 2, 0, 3.5)
     bus = table.vehicle("CITY-BUS")
@@ -162,7 +161,7 @@ def test_only_results_that_may_be_kept_are_held_and_the_choice_is_the_same(
 
     monkeypatch.setattr(swing, "_choose", spy)
     pruned = drive(net, [(bus, c)], options=DriveOptions(use_sumo=False))[0]
-    monkeypatch.setattr(trials, "prune", lambda results: None)
+    monkeypatch.setattr(swing, "_prune", lambda results: None)
     kept_all = drive(net, [(bus, c)], options=DriveOptions(use_sumo=False))[0]
     (tried, held), (_, every) = sizes
     assert tried > 50 and held < tried / 10 and every > held
