@@ -15,15 +15,22 @@ from __future__ import annotations
 import io
 from collections.abc import Sequence
 
+import numpy as np
+
 from clearance.reports.documents.colours import VERDICT_COLOURS
 
-__all__ = ["quantised_png"]
+__all__ = ["PAPER", "quantised_png"]
+
+#: White, kept exact on every palette: the median cut averaged it with the anti-aliased
+#: pixels next to it into (252, 252, 252), a grey box on a white page.
+PAPER = "#ffffff"
 
 
 def quantised_png(data: bytes, colours: int = 256, kept: Sequence[str] = (),
                   width_px: int | None = None, fast: bool = False) -> bytes:
     """The PNG ``data`` on a palette of ``colours`` (with Pillow, which matplotlib
-    requires), the verdict colours and the ``kept`` ones (``#rrggbb``) exactly; scaled down
+    requires), white (:data:`PAPER`), the verdict colours and the ``kept`` ones
+    (``#rrggbb``) exactly; scaled down
     to ``width_px`` first when it is wider. The palette is the median cut's (an octree's
     crowds the kept colours with near ones, and thin lines lose theirs), the PNG
     compressed as tightly as Pillow can; ``fast``: compressed once (a full-size figure in
@@ -36,14 +43,15 @@ def quantised_png(data: bytes, colours: int = 256, kept: Sequence[str] = (),
     >>> im.paste((211, 84, 0), (0, 0, 20, 10))  # encroaches orange, exactly
     >>> buf = io.BytesIO(); im.save(buf, "PNG")
     >>> out = Image.open(io.BytesIO(quantised_png(buf.getvalue(), colours=8)))
-    >>> out.mode, out.convert("RGB").getpixel((5, 5)), out.size
-    ('P', (211, 84, 0), (40, 10))
+    >>> rgb = out.convert("RGB")
+    >>> out.mode, rgb.getpixel((5, 5)), rgb.getpixel((35, 5)), out.size
+    ('P', (211, 84, 0), (255, 255, 255), (40, 10))
     >>> Image.open(io.BytesIO(quantised_png(buf.getvalue(), width_px=20))).size
     (20, 5)
     """
     from PIL import Image
 
-    kept = list(dict.fromkeys([*VERDICT_COLOURS.values(), *kept]))
+    kept = list(dict.fromkeys([PAPER, *VERDICT_COLOURS.values(), *kept]))
     with Image.open(io.BytesIO(data)) as opened:
         im = opened.convert("RGB")
     if width_px is not None and im.width > width_px:
@@ -52,11 +60,24 @@ def quantised_png(data: bytes, colours: int = 256, kept: Sequence[str] = (),
     # the median cut's palette less room for the kept colours, then those exactly
     cut = im.quantize(colours - len(kept), method=Image.Quantize.MEDIANCUT,
                       dither=Image.Dither.NONE)
-    entries = (cut.getpalette() or [])[:3 * (colours - len(kept))]
-    entries += [b for c in kept for b in bytes.fromhex(c.lstrip("#"))]
+    entries = [b for c in kept for b in bytes.fromhex(c.lstrip("#"))]
+    entries += (cut.getpalette() or [])[:3 * (colours - len(kept))]
     palette = Image.new("P", (1, 1))
     palette.putpalette(entries + entries[:3] * (256 - len(entries) // 3))
-    im = im.quantize(palette=palette, dither=Image.Dither.NONE)
+    mapped = im.quantize(palette=palette, dither=Image.Dither.NONE)
+    # Pillow maps a pixel to the entry nearest its cell at reduced precision (white went to
+    # the median cut's 252 grey): a pixel of a kept colour takes that colour's entry
+    rgb = np.asarray(im, dtype=np.uint32)
+    code = (rgb[..., 0] << 16) | (rgb[..., 1] << 8) | rgb[..., 2]
+    wanted = np.array([int(c.lstrip("#"), 16) for c in kept], dtype=np.uint32)
+    order = np.argsort(wanted)
+    at = np.minimum(np.searchsorted(wanted[order], code), len(kept) - 1)
+    hit = wanted[order][at] == code
+    index = np.array(mapped, dtype=np.uint8)
+    index[hit] = order[at[hit]]
+    out = Image.fromarray(index, mode="P")
+    out.putpalette(palette.getpalette() or [])
+    im = out
     buf = io.BytesIO()
     im.save(buf, "PNG", optimize=not fast)
     return buf.getvalue()

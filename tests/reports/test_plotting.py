@@ -62,6 +62,6 @@ def test_saved_png_is_on_a_palette_that_keeps_verdict_and_vehicle_colours(tmp_pa
     with Image.open(png) as im:
         assert im.mode == "P"
         found = {"#" + bytes(c[1]).hex() for c in im.convert("RGB").getcolors(1 << 16)}
-    assert set(PALETTE[:8]) <= found
+    assert set(PALETTE[:8]) <= found and "#ffffff" in found  # the paper stays white
     assert set(VERDICT_COLOURS.values()) - {"#000000"} <= found
     assert png.stat().st_size < 0.5 * len(raw.getvalue())
