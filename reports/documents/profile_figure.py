@@ -22,7 +22,7 @@ from matplotlib.patches import Circle, Polygon
 
 from clearance.analysis.vertical import Body, front_contact
 from clearance.networks.curves import Curve
-from clearance.reports.documents.plotting import STYLE, save
+from clearance.reports.documents.plotting import PNG, STYLE, save
 from clearance.reports.output.file_names import file_name
 from clearance.reports.results.records import RunRecord
 from clearance.reports.results.units import length_scale
@@ -71,8 +71,9 @@ def _side_view(curve: Curve, vehicle: Vehicle, rear_m: float
 
 
 def plot_profile(curve: Curve, vehicle: Vehicle, record: RunRecord, stem: Path,
-                 units: str = "m") -> Path:
-    """Draw the profile of ``curve`` with ``vehicle`` at its worst placement; the PNG."""
+                 units: str = "m", formats: tuple[str, ...] = PNG) -> Path:
+    """Draw the profile of ``curve`` with ``vehicle`` at its worst placement (the files of
+    ``formats``, PNG first); the PNG."""
     k = length_scale(units)
     s, z = profile_of(curve)
     s, z = np.asarray(s), np.asarray(z)
@@ -139,15 +140,16 @@ def plot_profile(curve: Curve, vehicle: Vehicle, record: RunRecord, stem: Path,
                   fontsize=8)
     low.legend(loc="upper left", fontsize=7)
     fig.tight_layout()
-    return save(fig, stem)[0]
+    return save(fig, stem, formats)[0]
 
 
 def vertical_entries(curves: Sequence[Curve], records: Sequence[RunRecord],
                      vehicles: dict[str, Vehicle], figures: Path,
-                     network: str, units: str = "m") -> list[VerticalEntry]:
+                     network: str, units: str = "m", formats: tuple[str, ...] = PNG
+                     ) -> list[VerticalEntry]:
     """The curves of one network the vertical section shows (a run scrapes or is too
     steep, or the curve is a ramp), worst first, the first :data:`MAX_PROFILE_FIGURES`
-    with a profile figure of their worst run."""
+    with a profile figure of their worst run (the files of ``formats``)."""
     by_curve: dict[str, list[RunRecord]] = {}
     for r in records:
         by_curve.setdefault(r.curve_id, []).append(r)
@@ -165,6 +167,7 @@ def vertical_entries(curves: Sequence[Curve], records: Sequence[RunRecord],
         if i < MAX_PROFILE_FIGURES:
             worst = runs[0]
             stem = figures / file_name([network, "profile", cid], room=4)
-            png = plot_profile(kinds[cid], vehicles[worst.vehicle], worst, stem, units)
+            png = plot_profile(kinds[cid], vehicles[worst.vehicle], worst, stem, units,
+                               formats)
         out.append(VerticalEntry(cid, png, runs))
     return out

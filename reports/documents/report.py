@@ -197,7 +197,7 @@ def build_sections(study: Study, folder: Path, units: str = "m",
             section.curves.append(CurveEntry(cid, None, recs, [], serves_text(recs)))
         section.vertical = vertical_entries(
             nc.curves, [r for r in study.records if r.network == nc.name],
-            {v.name: v for v in study.table.vehicles()}, figs, nc.name, units)
+            {v.name: v for v in study.table.vehicles()}, figs, nc.name, units, formats)
         section.serves = serves_counts(f, order)
         listed = {c.curve_id for c in section.curves}
         section.swung = [r for r in study.records if r.network == nc.name

@@ -83,6 +83,9 @@ def test_gate_and_csv_carry_the_vertical_finding(ramp_net, cars, tmp_path, capsy
     assert summary["findings"]["scrapes"] == sum("scrapes" in r["vertical"] for r in rows) >= 1
     html = (out_dir / "report.html").read_text()
     assert "Vertical checks" in html and "LowCar" in html
+    figures = [p.name for p in (out_dir / "figures").iterdir()]
+    assert any("__profile__" in n and n.endswith(".png") for n in figures)
+    assert not [n for n in figures if n.endswith(".svg")]  # SVG only with --svg
 
 
 def test_words_of_a_level_clear_run_are_empty():
