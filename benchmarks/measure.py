@@ -146,15 +146,13 @@ def verdict_counts(csv_path: Path) -> tuple[Counter[tuple[str, str, str]], int]:
     return counts, n
 
 
-#: Verdicts, best first, for comparing a study's with a baseline's.
-BEST_FIRST = ("clear", "encroaches", "fails", "cannot-turn", "error")
-
-
 def against_baseline(csv_path: Path, baseline: Path) -> str:
     """How a ``clearance.csv``'s verdicts compare with a baseline's (``.csv`` or
     ``.csv.gz``), run by run: the same, better, worse, and the runs either lacks; and the
-    baseline's and the study's counts per verdict."""
+    baseline's and the study's counts per verdict (in the project's verdict order)."""
     import gzip
+
+    from clearance.reports.results.records import VERDICT_ORDER  # higher is better
 
     def rows(path: Path) -> dict[tuple[str, str, str], str]:
         opener = gzip.open if path.suffix == ".gz" else open
@@ -163,14 +161,14 @@ def against_baseline(csv_path: Path, baseline: Path) -> str:
                     for r in csv.DictReader(fh)}
 
     old, new = rows(baseline), rows(csv_path)
-    rank = {v: i for i, v in enumerate(BEST_FIRST)}
     common = old.keys() & new.keys()
-    better = sum(rank[new[k]] < rank[old[k]] for k in common)
-    worse = sum(rank[new[k]] > rank[old[k]] for k in common)
+    better = sum(VERDICT_ORDER[new[k]] > VERDICT_ORDER[old[k]] for k in common)
+    worse = sum(VERDICT_ORDER[new[k]] < VERDICT_ORDER[old[k]] for k in common)
 
     def counts(v: dict[tuple[str, str, str], str]) -> str:
         c = Counter(v.values())
-        return ", ".join(f"{c[x]:,} {x}" for x in BEST_FIRST if c[x])
+        best_first = sorted(VERDICT_ORDER, key=VERDICT_ORDER.__getitem__, reverse=True)
+        return ", ".join(f"{c[x]:,} {x}" for x in best_first if c[x])
 
     return (f"against {baseline.name}: {len(common) - better - worse:,} the same, {better:,} "
             f"better, {worse:,} worse, {len(old.keys() - new.keys()):,} missing, "
