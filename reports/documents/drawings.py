@@ -76,6 +76,10 @@ class NetworkTask:
     names: tuple[tuple[str, str], ...] = ()
     origin: tuple[float, float] | None = None
     sheets: SheetSettings = DEFAULT_SHEETS
+    #: The report's folder when the worker writes there itself (an executor that
+    #: :attr:`~clearance.reports.study.executor.Executor.shares_disk`): the exports are
+    #: then written in place rather than sent back as bytes.
+    into: str | None = None
 
     def local(self, shared: SharedFile) -> Study:
         """The task's study in this process: its records, its network and curves (with
@@ -90,12 +94,20 @@ class NetworkTask:
 
 
 def network_exports(task: NetworkTask, shared: SharedFile) -> dict[str, bytes]:
-    """One network's exports (:func:`write_exports`), as files relative to the report."""
+    """One network's exports (:func:`write_exports`): written into the report's folder
+    where the task says so (:attr:`NetworkTask.into`; then none are returned), else
+    returned as files relative to the report."""
     study = task.local(shared)
     names = dict(task.names)
     recs = envelope_records(study, drawn_geometry(study))
-    return scratch_files(lambda root: write_network_exports(
-        root / "exports", recs, study.networks[0], names, task.origin))
+
+    def write(root: Path) -> None:
+        write_network_exports(root / "exports", recs, study.networks[0], names, task.origin)
+
+    if task.into is None:
+        return scratch_files(write)
+    write(Path(task.into))
+    return {}
 
 
 #: Sheets a sheets task draws at most (a curve's runs kept together): a town's hundreds of
@@ -303,7 +315,9 @@ class Drawings:
             words = _lost_words(drawing.what, reason)
             section.lost.append(words[:1].upper() + words[1:])
             if drawing.part == "exports":
-                exports.pop(drawing.network, None)
+                # a worker writing in place may have written some before it died
+                for name in exports.pop(drawing.network, {}).values():
+                    (self.folder / "exports" / name).unlink(missing_ok=True)
 
 
 def _lost_words(what: str, reason: str) -> str:
@@ -318,10 +332,13 @@ def _lost_words(what: str, reason: str) -> str:
 
 def network_tasks(study: Study, tables: list[Path], units: str,
                   origin: tuple[float, float] | None,
-                  sheets_asked: SheetSettings = DEFAULT_SHEETS) -> list[tuple[Drawing, Path]]:
+                  sheets_asked: SheetSettings = DEFAULT_SHEETS,
+                  into: Path | None = None) -> list[tuple[Drawing, Path]]:
     """The sheets and exports drawing of every network, with the network's file: each
     with the network's records and the curves it draws (those of
-    :func:`clearance.reports.documents.sheets.pick_sheets` and of :func:`drawn_geometry`)."""
+    :func:`clearance.reports.documents.sheets.pick_sheets` and of :func:`drawn_geometry`);
+    ``into``: the report's folder, where the exports' workers write them
+    (:attr:`NetworkTask.into`)."""
     from clearance.reports.documents.sheets import pick_sheets
 
     frame = study.frame()
@@ -344,7 +361,8 @@ def network_tasks(study: Study, tables: list[Path], units: str,
         base = NetworkTask(nc.name, str(nc.path), (), records, head, tuple(map(str, tables)),
                            units, names, origin, sheets_asked)
         exports = NetworkTask(**{**base.__dict__, "records": exported,
-                                 "curves": tuple(bare(by_id[c]) for c in drawn_ids)})
+                                 "curves": tuple(bare(by_id[c]) for c in drawn_ids),
+                                 "into": None if into is None else str(into)})
         out += [(d, nc.path) for d in _sheet_drawings(base, records, picked, by_id)]
         out.append((Drawing(network_exports, exports, nc.name, "exports", "exports ("
                             + ", ".join(f"exports/{n}" for _, n in names) + ")"), nc.path))

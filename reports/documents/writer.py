@@ -83,7 +83,8 @@ def write_report(study: Study, folder: Path, tables: list[Path], units: str = "m
         write_sheets(study, folder / "sheets", tables, units, sheets)
     else:
         drawings = Drawings(executor, folder)
-        for drawing, path in network_tasks(study, tables, units, origin, sheets):
+        into = folder if executor.shares_disk else None
+        for drawing, path in network_tasks(study, tables, units, origin, sheets, into):
             drawings.submit(drawing, path)
         exports = {nc.name: export_names(nc.name, georeferenced(nc, origin))
                    for nc in study.networks}

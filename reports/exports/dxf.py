@@ -31,14 +31,13 @@ fixed order (ezdxf adds the classes in use from a set, whose order varies betwee
 
 from __future__ import annotations
 
-import io
 import os
 import re
 from collections import OrderedDict
 from collections.abc import Iterable, Iterator
 from contextlib import contextmanager
 from pathlib import Path
-from typing import Any
+from typing import Any, TextIO
 
 import ezdxf
 import numpy as np
@@ -51,7 +50,7 @@ from shapely.geometry import LineString
 from clearance.networks.areas import lane_polygons
 from clearance.networks.model import Network
 from clearance.reports.exports.envelopes import EnvelopeRecord, checked_records, polygon_parts
-from clearance.reports.output.atomic import write_text_atomic
+from clearance.reports.output.atomic import write_stream_atomic
 
 __all__ = ["APPID", "BASE_LAYERS", "TEXT_HEIGHT_M", "VEHICLE_LAYERS", "VERDICT_ACI",
            "base_plan", "dxf_layer_name", "write_dxf"]
@@ -295,7 +294,7 @@ def write_dxf(path: str | os.PathLike[str], records: Iterable[EnvelopeRecord],
     if recs:
         bounds.append(shapely.total_bounds([r.envelope for r in recs]))
     _set_extents(doc, [b + np.array([*shift, *shift]) for b in bounds])
-    return write_text_atomic(path, _reproducible_text(doc))
+    return write_stream_atomic(path, lambda stream: _write_reproducible(doc, stream))
 
 
 def _place_in_projection(doc: Drawing, network: Network | None) -> tuple[float, float]:
@@ -458,11 +457,10 @@ def _fixed_metadata() -> Iterator[None]:
         ezdxf.options.write_fixed_meta_data_for_testing = previous
 
 
-def _reproducible_text(doc: Drawing) -> str:
-    """The DXF text of ``doc``, the same bytes for the same content."""
+def _write_reproducible(doc: Drawing, stream: TextIO) -> None:
+    """Write the DXF text of ``doc`` to ``stream``, the same bytes for the same content
+    (written as it goes: a town's drawing is 100 MB of text)."""
     doc.classes.add_required_classes(doc.dxfversion)
     doc.classes.classes = OrderedDict(sorted(doc.classes.classes.items()))
-    stream = io.StringIO()
     with _fixed_metadata():
         doc.write(stream)
-    return stream.getvalue()

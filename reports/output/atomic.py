@@ -2,13 +2,18 @@
 
 from __future__ import annotations
 
+import io
 import os
 import tempfile
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager
 from pathlib import Path
+from typing import BinaryIO, TextIO
 
 from clearance.vehicles.errors import OptionError
 
-__all__ = ["current_umask", "write_bytes_atomic", "write_text_atomic"]
+__all__ = ["atomic_file", "current_umask", "write_bytes_atomic", "write_stream_atomic",
+           "write_text_atomic"]
 
 
 def current_umask() -> int:
@@ -37,6 +42,41 @@ def write_bytes_atomic(path: str | os.PathLike[str], data: bytes) -> Path:
     the file system (disk full, read-only, no such folder) raises ``InputError`` naming the
     file and the cause; any previous file at ``path`` is left as it was.
     """
+    with atomic_file(path) as fh:
+        fh.write(data)
+    return Path(path)
+
+
+def write_stream_atomic(path: str | os.PathLike[str], write: Callable[[TextIO], object]
+                        ) -> Path:
+    """Write a text file (UTF-8, newlines as written) atomically by ``write(stream)``, for
+    a file too large to hold whole in memory first (a town's DXF: 100 MB of text).
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> with tempfile.TemporaryDirectory() as d:
+    ...     p = write_stream_atomic(Path(d) / "a.txt", lambda f: f.write("x\\n" * 3))
+    ...     p.read_bytes()
+    b'x\\nx\\nx\\n'
+    """
+    with atomic_file(path) as fh:
+        text = io.TextIOWrapper(fh, encoding="utf-8", newline="")
+        try:
+            write(text)
+            text.flush()
+        finally:
+            text.detach()  # the binary file is atomic_file's to close
+    return Path(path)
+
+
+@contextmanager
+def atomic_file(path: str | os.PathLike[str]) -> Iterator[BinaryIO]:
+    """A binary file to write that replaces ``path`` once it is complete (temporary file
+    in the same folder, fsync, rename); on an error or an interruption the temporary file
+    is removed and any previous file at ``path`` is left as it was. The file gets the
+    permissions of the user's umask. A failure of the file system (disk full, read-only,
+    no such folder) raises ``OptionError`` naming the file and the cause."""
     target = Path(path)
     folder = target.parent if str(target.parent) else Path(".")
     try:
@@ -52,7 +92,7 @@ def write_bytes_atomic(path: str | os.PathLike[str], data: bytes) -> Path:
     try:
         with os.fdopen(fd, "wb") as fh:
             os.fchmod(fh.fileno(), 0o666 & ~current_umask())
-            fh.write(data)
+            yield fh
             fh.flush()
             os.fsync(fh.fileno())
         os.replace(tmp, target)
@@ -63,4 +103,3 @@ def write_bytes_atomic(path: str | os.PathLike[str], data: bytes) -> Path:
     except BaseException:
         Path(tmp).unlink(missing_ok=True)
         raise
-    return target

@@ -116,6 +116,9 @@ class Executor(ABC):
     """Runs picklable calls in worker processes; see the module docstring."""
 
     workers: int
+    #: The workers write to this machine's file system, so that a task may write its
+    #: files where they go instead of sending them back (a town's exports: 150 MB).
+    shares_disk: bool = False
 
     @abstractmethod
     def submit(self, fn: Callable[..., R], *args: Any) -> Future[R]:
@@ -168,6 +171,8 @@ class Executor(ABC):
 
 class LocalExecutor(Executor):
     """Worker processes on this machine (:class:`~concurrent.futures.ProcessPoolExecutor`)."""
+
+    shares_disk = True
 
     def __init__(self, workers: int | None = None) -> None:
         n = cores() if workers is None else workers

@@ -163,3 +163,58 @@ def test_a_drawing_whose_worker_dies_once_is_drawn_again_and_nothing_is_lost(
     for rel, data in got.items():
         assert data == normal[rel], rel
     assert "not drawn" not in got["report.md"].decode()
+
+
+def exports_then(fn, record: str, crash: bool, *args):
+    """Run ``fn(*args)``; for the exports drawing, note in the file ``record`` the names
+    of the files it sent back, then with ``crash`` kill this worker (its files written,
+    its result never sent)."""
+    result = fn(*args)
+    task = args[0]
+    if isinstance(task, Drawing) and task.part == "exports":
+        Path(record).write_text(",".join(sorted(result)))
+        if crash:
+            os.kill(os.getpid(), signal.SIGSEGV)
+    return result
+
+
+class ExportsWatched(LocalExecutor):
+    """Local workers that note what the exports drawing sends back (:func:`exports_then`),
+    and die after it with ``crash``; ``shares_disk`` as given."""
+
+    def __init__(self, record: Path, crash: bool = False, shares_disk: bool = True) -> None:
+        super().__init__(2)
+        self.record, self.crash, self.shares_disk = str(record), crash, shares_disk
+
+    def submit(self, fn, *args):
+        return super().submit(exports_then, fn, self.record, self.crash, *args)
+
+
+def exports_of(got: dict[str, bytes]) -> dict[str, bytes]:
+    return {rel: data for rel, data in got.items() if rel.startswith("exports/")}
+
+
+def test_local_workers_write_the_exports_in_place_the_same_as_sent_back(normal, tmp_path):
+    # in place: the worker sends no file back, and the files are the usual ones ...
+    sent = tmp_path / "sent.txt"
+    assert report(tmp_path / "here", ExportsWatched(sent)) == (0, [])
+    assert sent.read_text() == ""
+    here = files(tmp_path / "here")
+    assert len(exports_of(here)) == 3 and exports_of(here) == exports_of(normal)
+    # ... byte for byte those a worker elsewhere (a cluster's) sends back
+    assert report(tmp_path / "back", ExportsWatched(sent, shares_disk=False)) == (0, [])
+    assert sent.read_text().split(",") == sorted(exports_of(normal))
+    assert exports_of(files(tmp_path / "back")) == exports_of(normal)
+
+
+def test_exports_a_worker_wrote_in_place_before_it_died_are_taken_out(normal, tmp_path):
+    out = tmp_path / "report"
+    status, warnings = report(out, ExportsWatched(tmp_path / "sent.txt", crash=True))
+    assert status == 0
+    got = files(out)
+    # the lost exports leave no file behind (each was complete, but the report says they
+    # are not drawn); everything else is as usual
+    assert exports_of(got) == {}
+    assert set(got) == set(normal) - set(exports_of(normal))
+    assert any("exports (exports/intersection.add.xml" in w and "not drawn" in w
+               for w in warnings), warnings
