@@ -13,7 +13,8 @@ from clearance.networks.model import Network
 from clearance.networks.reader import read_network
 
 __all__ = ["EDGE_OF_PAVEMENT", "JUNCTION", "LANE_LINE", "MAX_MARKED_LANES", "NON_ROAD", "PAVEMENT",
-           "fill_geometry", "nice_scale_m", "pavement_area", "plot_plan", "save_plan"]
+           "draw_lines", "fill_geometry", "fill_polygons", "nice_scale_m", "pavement_area",
+           "plot_plan", "save_plan"]
 
 
 def nice_scale_m(span_m: float) -> float:
@@ -35,17 +36,79 @@ def nice_scale_m(span_m: float) -> float:
 
 
 def fill_geometry(ax, geom, **kw) -> None:
-    """Fill (multi)polygons, holes left open."""
+    """Fill (multi)polygons, holes left open: one patch for the whole geometry (its
+    polygons do not overlap).
+
+    Examples
+    --------
+    >>> import matplotlib.pyplot as plt
+    >>> fig, ax = plt.subplots()
+    >>> fill_geometry(ax, shapely.box(0, 0, 2, 2).difference(shapely.box(0.5, 0.5, 1, 1)))
+    >>> fill_geometry(ax, shapely.Polygon())             # nothing to fill: no patch
+    >>> len(ax.patches)
+    1
+    >>> plt.close(fig)
+    """
     from matplotlib.patches import PathPatch
     from matplotlib.path import Path as MplPath
 
-    for poly in getattr(geom, "geoms", [geom]):
-        if poly.is_empty or poly.geom_type != "Polygon":
-            continue
-        rings = [np.asarray(poly.exterior.coords)[:, :2]]
-        rings += [np.asarray(r.coords)[:, :2] for r in poly.interiors]
-        path = MplPath.make_compound_path(*[MplPath(r, closed=True) for r in rings])
-        ax.add_patch(PathPatch(path, **kw))
+    rings = [MplPath(r, closed=True) for poly in _polygons(geom) for r in _rings(poly)]
+    if rings:
+        ax.add_patch(PathPatch(MplPath.make_compound_path(*rings), **kw))
+
+
+def fill_polygons(ax, geoms, **kw) -> None:
+    """Fill many (multi)polygons as one collection (one artist however many there are: a
+    town's plan has thousands), each polygon on its own with its holes left open, so that
+    overlapping ones fill alike.
+
+    Examples
+    --------
+    >>> import matplotlib.pyplot as plt
+    >>> fig, ax = plt.subplots()
+    >>> fill_polygons(ax, [shapely.box(0, 0, 1, 1), shapely.box(0.5, 0, 2, 1)], color="grey")
+    >>> fill_polygons(ax, [])                            # nothing to fill: no collection
+    >>> len(ax.collections), [float(v) for v in ax.dataLim.bounds]
+    (1, [0.0, 0.0, 2.0, 1.0])
+    >>> plt.close(fig)
+    """
+    from matplotlib.collections import PathCollection
+    from matplotlib.path import Path as MplPath
+
+    paths = [MplPath.make_compound_path(*[MplPath(r, closed=True) for r in _rings(poly)])
+             for g in geoms for poly in _polygons(g)]
+    if paths:
+        ax.add_collection(PathCollection(paths, transform=ax.transData, **kw))
+
+
+def draw_lines(ax, lines, **kw) -> None:
+    """Draw many polylines (arrays of x, y) as one collection.
+
+    Examples
+    --------
+    >>> import matplotlib.pyplot as plt
+    >>> fig, ax = plt.subplots()
+    >>> draw_lines(ax, [np.array([[0.0, 0.0], [3.0, 4.0]]), np.zeros((1, 2))])
+    >>> len(ax.collections), len(ax.collections[0].get_segments())  # a lone point: no line
+    (1, 1)
+    >>> plt.close(fig)
+    """
+    from matplotlib.collections import LineCollection
+
+    segments = [np.asarray(xy, dtype=float)[:, :2] for xy in lines if len(xy) >= 2]
+    if segments:
+        ax.add_collection(LineCollection(segments, **kw))
+
+
+def _polygons(geom) -> list:
+    """The non-empty polygons of a (multi)polygon or collection."""
+    return [p for p in getattr(geom, "geoms", [geom])
+            if not p.is_empty and p.geom_type == "Polygon"]
+
+
+def _rings(poly) -> list[np.ndarray]:
+    """A polygon's exterior and holes as (N, 2) arrays."""
+    return [np.asarray(r.coords)[:, :2] for r in (poly.exterior, *poly.interiors)]
 
 
 _fill = fill_geometry  # the old private name
@@ -124,31 +187,19 @@ def plot_plan(
         junctions = [j for j in junctions if near(j.shape)]
     road = [k for k, lane in lanes.items() if lane.allows_road_vehicles()]
     other = [k for k, lane in lanes.items() if not lane.allows_road_vehicles()]
-    for poly in lane_polygons(net, other) if other else []:
-        fill_geometry(ax, shapely.make_valid(poly), color=NON_ROAD, lw=0, zorder=1)
+    fill_polygons(ax, [shapely.make_valid(p) for p in lane_polygons(net, other)] if other
+                  else [], color=NON_ROAD, lw=0, zorder=1)
     paved = pavement_area(net, road, junctions)
-    fill_geometry(ax, paved, color=PAVEMENT, lw=0, zorder=1.5)
-    for j in junctions:
-        if len(j.shape) >= 3:
-            ax.fill(j.shape[:, 0], j.shape[:, 1], color=JUNCTION, lw=0, zorder=1.6)
+    fill_polygons(ax, [paved], color=PAVEMENT, lw=0, zorder=1.5)
+    fill_polygons(ax, [shapely.Polygon(j.shape[:, :2]) for j in junctions
+                       if len(j.shape) >= 3], color=JUNCTION, lw=0, zorder=1.6)
     normal = [k for k in road if not net.lanes[k].is_internal]
     if len(normal) <= MAX_MARKED_LANES:
-        for k in normal:
-            lane = net.lanes[k]
-            line = shapely.LineString(lane.shape[:, :2])
-            for side in (1, -1):
-                edge = shapely.offset_curve(line, side * lane.width_m / 2)
-                for part in getattr(edge, "geoms", [edge]):
-                    xy = np.asarray(part.coords)
-                    if len(xy) >= 2:
-                        ax.plot(xy[:, 0], xy[:, 1], color=LANE_LINE, lw=0.7,
-                                ls=(0, (4, 3)), zorder=2)
-    for poly in getattr(paved, "geoms", [paved]):
-        if poly.is_empty:
-            continue
-        for ring in [poly.exterior, *poly.interiors]:
-            xy = np.asarray(ring.coords)
-            ax.plot(xy[:, 0], xy[:, 1], color=EDGE_OF_PAVEMENT, lw=1.1, zorder=3)
+        draw_lines(ax, [np.asarray(part.coords) for k in normal for part in _lane_edges(net, k)],
+                   color=LANE_LINE, lw=0.7, linestyle=(0, (4, 3)), zorder=2)
+    draw_lines(ax, [np.asarray(ring.coords) for poly in _polygons(paved)
+                    for ring in (poly.exterior, *poly.interiors)],
+               color=EDGE_OF_PAVEMENT, lw=1.1, zorder=3)
     ax.set_aspect("equal")
     if bounds is not None:
         ax.set_xlim(bounds[0], bounds[1])
@@ -180,6 +231,17 @@ def plot_plan(
         arrowprops={"arrowstyle": "-|>", "color": "black", "lw": 1.5},
         zorder=5,
     )
+
+
+def _lane_edges(net: Network, lane_id: str) -> list:
+    """The two edges of a lane (lines half its width either side of its centre line)."""
+    lane = net.lanes[lane_id]
+    line = shapely.LineString(lane.shape[:, :2])
+    out = []
+    for side in (1, -1):
+        edge = shapely.offset_curve(line, side * lane.width_m / 2)
+        out += [part for part in getattr(edge, "geoms", [edge]) if not part.is_empty]
+    return out
 
 
 def save_plan(
