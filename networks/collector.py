@@ -11,7 +11,7 @@ import gc
 from collections.abc import Iterator
 from contextlib import contextmanager
 
-__all__ = ["gc_paused"]
+__all__ = ["gc_paused", "kept_for_good"]
 
 
 @contextmanager
@@ -48,3 +48,25 @@ def gc_paused() -> Iterator[None]:
                 gc.freeze()
                 gc.unfreeze()
             gc.enable()
+
+
+def kept_for_good() -> None:
+    """Free the garbage now, then keep every object alive out of the cyclic collector's
+    scans for the rest of the process (``gc.freeze()``, never undone).
+
+    For a process whose objects alive now stay so while it works: a worker that has read
+    its network. Each full collection used to scan the whole network again (a curve
+    figure's ``gc.collect()`` took 0.17 s with a city's network loaded). Objects frozen
+    are still freed by their reference counts when dropped (the network's hold no cycles);
+    only a cycle among them would stay.
+
+    Examples
+    --------
+    >>> import gc
+    >>> kept_for_good()
+    >>> gc.get_freeze_count() > 0
+    True
+    >>> gc.unfreeze()  # a doctest leaves the process as it found it
+    """
+    gc.collect()
+    gc.freeze()

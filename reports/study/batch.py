@@ -34,6 +34,7 @@ from clearance.analysis.failures import GEOMETRY_FAILURES
 from clearance.networks.area_book import curve_levels, network_is_flat
 from clearance.networks.area_groups import AreaIndex
 from clearance.networks.areas import build_areas
+from clearance.networks.collector import kept_for_good
 from clearance.networks.curves import Curve
 from clearance.networks.driving.analytic import minimum_ctr_m, run_analytic
 from clearance.networks.driving.drive import DrivenRun, DriveOptions, drive
@@ -244,6 +245,7 @@ def worker_network(shared: SharedFile) -> Network:
                     tmp.write_bytes(data)
                     os.replace(tmp, path)
             _NETWORKS[key] = read_network(path)
+            kept_for_good()
         return _NETWORKS[key]
     try:
         st = path.stat()
@@ -255,6 +257,7 @@ def worker_network(shared: SharedFile) -> Network:
         _NETWORKS.clear()  # one network at a time: a study goes network by network
         _INDEXES.clear()
         _NETWORKS[key] = read_network(path)
+        kept_for_good()  # the network stays: no full collection scans it again
     return _NETWORKS[key]
 
 

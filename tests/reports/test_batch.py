@@ -117,3 +117,26 @@ def test_a_worker_gives_bare_curves_of_a_garage_their_storeys():
     flat = [bare(c) for c in extract_curves(read_network(NET))[:3]]
     with_areas(worker_network((str(NET), None)), flat)
     assert all(c.levels == () for c in flat)
+
+
+def test_a_workers_network_is_kept_out_of_the_collectors_scans(tmp_path):
+    import gc
+    import shutil
+
+    # a copy: the cache holds one network a process, and this one must be read here
+    path = tmp_path / NET.name
+    shutil.copy(NET, path)
+    gc.unfreeze()
+    try:
+        net = worker_network((str(path), None))
+        # frozen: no full collection (a figure's gc.collect) scans it again ...
+        assert gc.get_freeze_count() > 0
+        assert not any(o is net or o is net.lanes for o in gc.get_objects())
+        # ... and what comes after is collected as usual
+        cycle: list = []
+        cycle.append(cycle)
+        del cycle
+        assert gc.collect() >= 1
+        assert worker_network((str(path), None)) is net
+    finally:
+        gc.unfreeze()
