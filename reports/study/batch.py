@@ -46,6 +46,7 @@ from clearance.reports.output.file_names import file_name
 from clearance.reports.results.feedback import set_overreach
 from clearance.reports.results.records import RunRecord
 from clearance.reports.study.executor import SharedFile
+from clearance.reports.study.lifetime import in_worker
 from clearance.vehicles.errors import NetworkError
 from clearance.vehicles.vehicle import Vehicle
 
@@ -245,7 +246,8 @@ def worker_network(shared: SharedFile) -> Network:
                     tmp.write_bytes(data)
                     os.replace(tmp, path)
             _NETWORKS[key] = read_network(path)
-            kept_for_good()
+            if in_worker():
+                kept_for_good()
         return _NETWORKS[key]
     try:
         st = path.stat()
@@ -257,7 +259,8 @@ def worker_network(shared: SharedFile) -> Network:
         _NETWORKS.clear()  # one network at a time: a study goes network by network
         _INDEXES.clear()
         _NETWORKS[key] = read_network(path)
-        kept_for_good()  # the network stays: no full collection scans it again
+        if in_worker():  # the network stays: no full collection scans it again
+            kept_for_good()
     return _NETWORKS[key]
 
 

@@ -38,8 +38,8 @@ from collections.abc import Iterator
 from contextlib import contextmanager
 from types import FrameType
 
-__all__ = ["STOP_SIGNALS", "Stopped", "WATCH_S", "die_with_parent", "stop_on_signals",
-           "watch_command", "worker_start"]
+__all__ = ["STOP_SIGNALS", "Stopped", "WATCH_S", "die_with_parent", "in_worker",
+           "stop_on_signals", "watch_command", "worker_start"]
 
 #: The signals that stop a command cleanly, besides Ctrl-C's ``SIGINT``.
 STOP_SIGNALS = (signal.SIGTERM, signal.SIGHUP)
@@ -127,9 +127,20 @@ def watch_command(pid: int, every_s: float = WATCH_S) -> threading.Thread:
     return thread
 
 
+_WORKER = False
+
+
+def in_worker() -> bool:
+    """Whether this process is a local worker (started by :func:`worker_start`): one that
+    lives for its command's work alone, not the command's own process or a test's."""
+    return _WORKER
+
+
 def worker_start(command_pid: int | None = None) -> None:
     """What a worker process does first: Ctrl-C is its command's to handle (the command
     kills it), and it ends with its command (``command_pid``; see the module's text)."""
+    global _WORKER
+    _WORKER = True
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     for s in STOP_SIGNALS:
         signal.signal(s, signal.SIG_DFL)

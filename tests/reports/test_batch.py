@@ -119,16 +119,24 @@ def test_a_worker_gives_bare_curves_of_a_garage_their_storeys():
     assert all(c.levels == () for c in flat)
 
 
-def test_a_workers_network_is_kept_out_of_the_collectors_scans(tmp_path):
+def test_a_workers_network_is_kept_out_of_the_collectors_scans(tmp_path, monkeypatch):
     import gc
     import shutil
 
-    # a copy: the cache holds one network a process, and this one must be read here
-    path = tmp_path / NET.name
-    shutil.copy(NET, path)
+    from clearance.reports.study import lifetime
+
+    # copies: the cache holds one network a process, and these must be read here
+    here, there = tmp_path / "here", tmp_path / "there"
+    for folder in (here, there):
+        folder.mkdir()
+        shutil.copy(NET, folder / NET.name)
     gc.unfreeze()
+    # not in a worker (the command's own process, a test's): nothing frozen for good
+    worker_network((str(here / NET.name), None))
+    assert gc.get_freeze_count() == 0
+    monkeypatch.setattr(lifetime, "_WORKER", True)
     try:
-        net = worker_network((str(path), None))
+        net = worker_network((str(there / NET.name), None))
         # frozen: no full collection (a figure's gc.collect) scans it again ...
         assert gc.get_freeze_count() > 0
         assert not any(o is net or o is net.lanes for o in gc.get_objects())
@@ -137,6 +145,6 @@ def test_a_workers_network_is_kept_out_of_the_collectors_scans(tmp_path):
         cycle.append(cycle)
         del cycle
         assert gc.collect() >= 1
-        assert worker_network((str(path), None)) is net
+        assert worker_network((str(there / NET.name), None)) is net
     finally:
         gc.unfreeze()
