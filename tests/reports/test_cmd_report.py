@@ -218,3 +218,27 @@ def test_exports_a_worker_wrote_in_place_before_it_died_are_taken_out(normal, tm
     assert set(got) == set(normal) - set(exports_of(normal))
     assert any("exports (exports/intersection.add.xml" in w and "not drawn" in w
                for w in warnings), warnings
+
+
+def dxf_blocked(fn, *args):
+    """Run ``fn(*args)``, but first put a folder where the exports drawing's DXF goes (a
+    file the worker cannot write in place)."""
+    task = args[0]
+    if isinstance(task, Drawing) and task.part == "exports" and task.task.into:
+        name = dict(task.task.names)["dxf"]
+        (Path(task.task.into) / "exports" / name).mkdir(parents=True)
+    return fn(*args)
+
+
+class DxfBlocked(LocalExecutor):
+    def submit(self, fn, *args):
+        return super().submit(dxf_blocked, fn, *args)
+
+
+def test_an_export_a_worker_cannot_write_in_place_is_exit_2_naming_it(tmp_path, capsys):
+    out = tmp_path / "report"
+    status, _ = report(out, DxfBlocked(2))
+    assert status == 2
+    err = capsys.readouterr().err
+    assert "intersection.dxf: is a directory" in err and "Traceback" not in err
+    assert not out.exists()  # nothing swapped in: the folder is as it was (absent)
