@@ -111,9 +111,6 @@ def _rings(poly) -> list[np.ndarray]:
     return [np.asarray(r.coords)[:, :2] for r in (poly.exterior, *poly.interiors)]
 
 
-_fill = fill_geometry  # the old private name
-
-
 #: Colours of the base plan (a CAD-like drawing: grey pavement, white lane lines, black
 #: edge of pavement).
 PAVEMENT = "#d5d5d5"

@@ -57,7 +57,6 @@ def compact_png(png: Path, width_px: int = HTML_IMAGE_WIDTH_PX,
     The full-resolution PNG and the SVG stay in ``figures/``.
     """
     data = Path(png).read_bytes()
-    kept = list(dict.fromkeys([*VERDICT_COLOURS.values(), *kept]))
     made = COMPACT_MADE.get(compact_key(data, width_px, colours, kept))
     if made is not None:
         return made

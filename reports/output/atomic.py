@@ -36,12 +36,9 @@ def write_text_atomic(path: str | os.PathLike[str], text: str) -> Path:
 
 
 def write_bytes_atomic(path: str | os.PathLike[str], data: bytes) -> Path:
-    """Write ``data`` to ``path`` atomically (temporary file, fsync, rename).
-
-    The file gets the permissions of the user's umask (0644 under umask 022). A failure of
-    the file system (disk full, read-only, no such folder) raises ``InputError`` naming the
-    file and the cause; any previous file at ``path`` is left as it was.
-    """
+    """Write ``data`` to ``path`` atomically (:func:`atomic_file`: temporary file, fsync,
+    rename; the umask's permissions, 0644 under umask 022; ``OptionError`` naming the file
+    on a failure of the file system, any previous file left as it was)."""
     with atomic_file(path) as fh:
         fh.write(data)
     return Path(path)

@@ -245,9 +245,7 @@ def worker_network(shared: SharedFile) -> Network:
                     tmp = folder / f".{path.name}.{os.getpid()}.tmp"
                     tmp.write_bytes(data)
                     os.replace(tmp, path)
-            _NETWORKS[key] = read_network(path)
-            if in_worker():
-                kept_for_good()
+            _NETWORKS[key] = _read_to_keep(path)
         return _NETWORKS[key]
     try:
         st = path.stat()
@@ -258,10 +256,17 @@ def worker_network(shared: SharedFile) -> Network:
     if key not in _NETWORKS:
         _NETWORKS.clear()  # one network at a time: a study goes network by network
         _INDEXES.clear()
-        _NETWORKS[key] = read_network(path)
-        if in_worker():  # the network stays: no full collection scans it again
-            kept_for_good()
+        _NETWORKS[key] = _read_to_keep(path)
     return _NETWORKS[key]
+
+
+def _read_to_keep(path: Path) -> Network:
+    """The network at ``path`` for this process to keep: in a local worker it is frozen
+    out of the collector's full scans (:func:`kept_for_good`)."""
+    net = read_network(path)
+    if in_worker():
+        kept_for_good()
+    return net
 
 
 def _configure_logging(level: int) -> None:
