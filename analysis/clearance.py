@@ -51,7 +51,8 @@ from clearance.analysis.tracking import TrackingRun
 from clearance.vehicles.errors import GeometryError
 
 __all__ = ["Areas", "Clearance", "END_SLACK_M", "NOTHING_SWEPT", "RunResult", "VERDICTS",
-           "classify", "end_boxes", "evaluate", "evaluate_batch", "judge", "worst_level"]
+           "classify", "end_boxes", "evaluate", "evaluate_batch", "judge", "judged_part",
+           "worst_level"]
 
 VERDICTS = ("cannot-turn", "fails", "encroaches", "clear")
 """Verdicts, worst first."""
@@ -364,7 +365,7 @@ def evaluate(
     ('clear', 0.55)
     """
     _check_offset(offset_m)
-    reason, judged, mask = _judged_part(run, feature_m)
+    reason, judged, mask = judged_part(run, feature_m)
     swept = swept_path(judged, tolerance_m=tolerance_m, width_step_m=width_step_m,
                        stations_m=feature_m)
     measured, boxes, ignore = _measured(swept.envelope, run, offset_m, trim_ends)
@@ -427,17 +428,30 @@ def judge(
     if areas.levels:
         return evaluate(run, areas, offset_m, tolerance_m, feature_m=feature_m).clearance
     _check_offset(offset_m)
-    reason, judged, _ = _judged_part(run, feature_m)
+    reason, judged, _ = judged_part(run, feature_m)
     measured, _, ignore = _measured(swept_envelope(judged, tolerance_m)[0], run, offset_m, True)
     clearance = classify(measured, areas, 0.0, reason, ignore=ignore)
     return dataclasses.replace(clearance, offset_m=float(offset_m),
                                reason=_grown(clearance, offset_m))
 
 
-def _judged_part(run: TrackingRun, feature_m: tuple[float, float] | None
-                 ) -> tuple[str, TrackingRun, np.ndarray | None]:
+def judged_part(run: TrackingRun, feature_m: tuple[float, float] | None
+                ) -> tuple[str, TrackingRun, np.ndarray | None]:
     """What decides a run over a window (see :func:`evaluate`): the reason it cannot be
-    driven there (``""``: it can), its samples there with one either side, and the mask."""
+    driven there (``""``: it can), its samples there with one either side, and the mask.
+
+    Examples
+    --------
+    >>> from clearance.analysis.tracking import simulate
+    >>> from clearance.vehicles.vehicle import Vehicle
+    >>> car = Vehicle("car", 2.7, 1.5, 1.8, 0.9, 1.0, 0.6, 0.65, 0.5)
+    >>> run = simulate(car, [(0.0, 0.0), (30.0, 0.0)])
+    >>> reason, part, mask = judged_part(run, None)  # no window: the whole run
+    >>> reason, part is run, mask
+    ('', True, None)
+    >>> len(judged_part(run, (10.0, 12.0))[1].trajectory.s_m) < len(run.trajectory.s_m)
+    True
+    """
     if feature_m is None:
         return run.reason, run, None
     mask = feature_mask(run, feature_m)

@@ -70,7 +70,7 @@ from clearance.vehicles.vehicle import Vehicle
 
 __all__ = ["DEFAULT_TOLERANCE_M", "DEFAULT_WIDTH_STEP_M", "SweptPath", "body_corners",
            "body_points", "interval_hulls", "key_samples", "ring_segments", "sweep",
-           "swept_envelope", "swept_path", "swept_widths", "wheel_tracks"]
+           "sweep_poses", "swept_envelope", "swept_path", "swept_widths", "wheel_tracks"]
 
 FloatArray = NDArray[np.float64]
 
@@ -242,6 +242,49 @@ def interval_hulls(corners: FloatArray) -> NDArray[np.object_]:
     return cast("NDArray[np.object_]", shapely.convex_hull(shapely.multipoints(pairs)))
 
 
+def sweep_poses(
+    x_m: FloatArray,
+    y_m: FloatArray,
+    theta_rad: FloatArray,
+    ahead_m: float,
+    behind_m: float,
+    width_m: float,
+    tolerance_m: float = DEFAULT_TOLERANCE_M,
+    axle_m: float = 0.0,
+) -> tuple[FloatArray, FloatArray, FloatArray, list[tuple[float, float]]]:
+    """The key poses :func:`sweep` unites and the parts of the body it sweeps.
+
+    Returns the key poses' ``x``, ``y`` and heading, and the parts as ``(ahead, behind)``
+    about the reference point, the longer first, each of some length: the body is cut at
+    ``axle_m`` (see :func:`sweep`), and the longer part's sweep covers most of the shorter
+    one's hulls.
+
+    Examples
+    --------
+    A body 4 m ahead of and 1 m behind its rear axle, standing still: its first and last
+    poses; the part ahead of the axle first:
+
+    >>> xs, ys, ths, parts = sweep_poses(np.zeros(3), np.zeros(3), np.zeros(3), 4.0, 1.0, 2.0)
+    >>> len(xs), parts
+    (2, [(4.0, -0.0), (0.0, 1.0)])
+
+    Cut at its rear end (no part behind the axle), only the part ahead is swept:
+
+    >>> sweep_poses(np.zeros(1), np.zeros(1), np.zeros(1), 4.0, 0.0, 2.0)[3]
+    [(4.0, -0.0)]
+    """
+    # vertices of both parts: the body's corners and the two ends of its axle line
+    along = np.array([-behind_m, ahead_m, ahead_m, -behind_m, axle_m, axle_m])
+    across = np.array([-0.5, -0.5, 0.5, 0.5, -0.5, 0.5]) * width_m
+    px, py = body_points(x_m, y_m, theta_rad, along, across)
+    keys = key_samples(px, py, tolerance_m)
+    # the longer part first: the shorter part's hulls that its sweep covers (most of them,
+    # away from where the turning starts) add nothing and are left out of the union
+    parts = sorted(((ahead_m, -axle_m), (axle_m, behind_m)), key=lambda p: -(p[0] + p[1]))
+    return (x_m[keys], y_m[keys], theta_rad[keys],
+            [(a, b) for a, b in parts if a + b > 0])
+
+
 def sweep(
     x_m: FloatArray,
     y_m: FloatArray,
@@ -277,23 +320,14 @@ def sweep(
     >>> bool(np.pi * (1.5 - 0.02) ** 2 < a.area < np.pi * 1.5 ** 2)
     True
     """
-    # vertices of both parts: the body's corners and the two ends of its axle line
-    along = np.array([-behind_m, ahead_m, ahead_m, -behind_m, axle_m, axle_m])
-    across = np.array([-0.5, -0.5, 0.5, 0.5, -0.5, 0.5]) * width_m
-    px, py = body_points(x_m, y_m, theta_rad, along, across)
-    keys = key_samples(px, py, tolerance_m)
-    xs, ys, ths = x_m[keys], y_m[keys], theta_rad[keys]
-    if len(keys) == 1:
+    xs, ys, ths, parts = sweep_poses(x_m, y_m, theta_rad, ahead_m, behind_m, width_m,
+                                     tolerance_m, axle_m)
+    if len(xs) == 1:
         body: BaseGeometry = shapely.polygons(
             body_corners(xs, ys, ths, ahead_m, behind_m, width_m)[0])
         return body
-    # the longer part first: the shorter part's hulls that its sweep covers (most of them,
-    # away from where the turning starts) add nothing and are left out of the union
-    parts = sorted(((ahead_m, -axle_m), (axle_m, behind_m)), key=lambda p: -(p[0] + p[1]))
     swept: BaseGeometry | None = None
     for ahead, behind in parts:
-        if ahead + behind <= 0:
-            continue
         hulls = interval_hulls(body_corners(xs, ys, ths, ahead, behind, width_m))
         if swept is None:
             swept = shapely.union_all(hulls)

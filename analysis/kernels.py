@@ -15,9 +15,9 @@ import math
 import numpy as np
 from numba import njit
 
-__all__ = ["farthest_from_segments", "greedy_keys", "look_back_distance", "normal_widths",
-           "pair_hulls", "project_near", "segments_distance", "vertex_path_bounds",
-           "windowed_distance"]
+__all__ = ["corner_vertices", "farthest_from_segments", "greedy_keys", "look_back_distance",
+           "normal_widths", "pair_hulls", "project_near", "segments_distance",
+           "vertex_path_bounds", "windowed_distance"]
 
 
 @njit(cache=True)
@@ -527,3 +527,126 @@ def project_near(px: np.ndarray, py: np.ndarray, path_xy: np.ndarray, n_points: 
         along[i] = best_t * best_len
         lateral[i] = math.copysign(math.sqrt(best_d2), best_cross)
     return seg_out, along, lateral
+
+
+@njit(cache=True)
+def _sector(qx: float, qy: float, coords: np.ndarray, lo: int, hi: int,
+            margin_m: float) -> tuple[int, float, float]:  # pragma: no cover - compiled
+    """The angle about ``(qx, qy)`` a convex ring (rows ``lo`` to ``hi``, ``hi`` its first
+    point repeated) covers: ``(kind, start, length)``, kind 0 far from it, 1 a vertex of it,
+    2 on one edge, 3 inside it or near two edges without being a vertex (no clear angle)."""
+    near = 0
+    edge = -1
+    for e in range(lo, hi):
+        ax, ay = coords[e, 0], coords[e, 1]
+        ex, ey = coords[e + 1, 0] - ax, coords[e + 1, 1] - ay
+        length = math.sqrt(ex * ex + ey * ey)
+        if length == 0.0:
+            continue
+        side = (ex * (qy - ay) - ey * (qx - ax)) / length
+        if side < -margin_m:
+            return 0, 0.0, 0.0
+        if side <= margin_m:
+            near += 1
+            edge = e
+    for e in range(lo, hi):
+        if abs(coords[e, 0] - qx) <= 1e-12 and abs(coords[e, 1] - qy) <= 1e-12:
+            prv = e - 1 if e > lo else hi - 1
+            a0 = math.atan2(coords[e + 1, 1] - qy, coords[e + 1, 0] - qx)
+            a1 = math.atan2(coords[prv, 1] - qy, coords[prv, 0] - qx)
+            return 1, a0 % (2.0 * math.pi), (a1 - a0) % (2.0 * math.pi)
+    if near == 1:
+        a = math.atan2(coords[edge + 1, 1] - coords[edge, 1],
+                       coords[edge + 1, 0] - coords[edge, 0])
+        return 2, a % (2.0 * math.pi), math.pi
+    return 3, 0.0, 0.0
+
+
+@njit(cache=True)
+def _covered(a: float, starts: np.ndarray, lengths: np.ndarray,
+             n: int) -> bool:  # pragma: no cover - compiled
+    for j in range(n):
+        if (a - starts[j]) % (2.0 * math.pi) < lengths[j]:
+            return True
+    return False
+
+
+@njit(cache=True)
+def _joined_angle(starts: np.ndarray, lengths: np.ndarray,
+                  n: int) -> float:  # pragma: no cover - compiled
+    """The angle the ``n`` arcs (start, length) cover when they join into one; -1 when they
+    leave two gaps or more, or none."""
+    tau = 2.0 * math.pi
+    gap = -1.0  # an angle no arc covers: just past the end of one of them
+    for j in range(n):
+        a = (starts[j] + lengths[j] + 1e-9) % tau
+        if not _covered(a, starts, lengths, n):
+            gap = a
+            break
+    if gap < 0.0:
+        return -1.0
+    rel = np.empty(n)
+    for j in range(n):
+        rel[j] = (starts[j] - gap) % tau
+    order = np.argsort(rel)
+    first = rel[order[0]]
+    end = first + lengths[order[0]]
+    for m in range(1, n):
+        j = order[m]
+        if rel[j] > end + 1e-12:
+            return -1.0
+        end = max(end, rel[j] + lengths[j])
+    return float(end - first)
+
+
+@njit(cache=True)
+def corner_vertices(xy: np.ndarray, coords: np.ndarray, offsets: np.ndarray,
+                    margin_m: float, min_angle_rad: float) -> np.ndarray:  # pragma: no cover
+    """Whether each point ``(k, 2)`` is a vertex of the boundary of the union of convex
+    rings: a vertex of one of them at least; the rings about it (within ``margin_m``:
+    each having it as a vertex, or on an edge) cover one contiguous angle about it, at
+    least ``min_angle_rad`` and short of the full turn by that much; no ring holds it
+    inside.
+
+    The rings are counter-clockwise and closed, as :func:`pair_hulls` gives them (ring
+    ``i`` is rows ``offsets[i]`` to ``offsets[i + 1] - 1`` of ``coords``). A point near two
+    edges of a ring without being its vertex, or about which the rings leave two gaps, is
+    not taken for a corner.
+
+    Examples
+    --------
+    Two unit squares side by side and a third on top of the first, an L: its outer
+    corners, the point where two meet along its bottom edge and the inner corner where all
+    three meet are vertices of the union; a point inside one square, or off them all, is
+    not:
+
+    >>> sq = np.array([[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0], [0.0, 0.0]])
+    >>> rings = np.concatenate([sq, sq + [1.0, 0.0], sq + [0.0, 1.0]])
+    >>> pts = np.array([[0.0, 0.0], [2.0, 1.0], [1.0, 0.0], [1.0, 1.0], [0.5, 0.5],
+    ...                 [5.0, 5.0]])
+    >>> corner_vertices(pts, rings, np.array([0, 5, 10, 15]), 1e-9, 0.1).tolist()
+    [True, True, True, True, False, False]
+    """
+    out = np.zeros(xy.shape[0], dtype=np.bool_)
+    nr = offsets.shape[0] - 1
+    starts = np.empty(nr + 1)
+    lengths = np.empty(nr + 1)
+    for i in range(xy.shape[0]):
+        n = 0
+        vertices = 0
+        clear = True
+        for r in range(nr):
+            kind, start, length = _sector(xy[i, 0], xy[i, 1], coords, offsets[r],
+                                          offsets[r + 1] - 1, margin_m)
+            if kind == 3:
+                clear = False
+                break
+            if kind > 0:
+                starts[n], lengths[n] = start, length
+                vertices += kind == 1
+                n += 1
+        if not clear or vertices == 0:
+            continue
+        angle = _joined_angle(starts, lengths, n)
+        out[i] = min_angle_rad <= angle <= 2.0 * math.pi - min_angle_rad
+    return out

@@ -12,12 +12,12 @@ when it is better by a whole tier, or by more than :data:`BETTER_BY_M` in the sa
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 
 from clearance.analysis.clearance import Clearance
 
-__all__ = ["BETTER_BY_M", "ENCROACHED", "TIERS", "decisive_margin", "encroaches_on", "rank",
-           "swing_reason", "tier"]
+__all__ = ["BETTER_BY_M", "ENCROACHED", "TIERS", "decisive_margin", "encroaches_on",
+           "key_ceiling", "rank", "swing_reason", "tier"]
 
 
 BETTER_BY_M = 0.05
@@ -84,6 +84,32 @@ def decisive_margin(clearance: Clearance | None) -> float:
     if t == 2:
         return float(clearance.roadway_margin_m)  # type: ignore[arg-type]  # tier 2 has one
     return clearance.paved_margin_m
+
+
+def key_ceiling(floors: Mapping[str, float]) -> tuple[int, float] | None:
+    """The best (tier, decisive margin) a path can have whose reach beyond its areas is at
+    least ``floors`` (by area name, each at least the network's precision:
+    :func:`clearance.analysis.screen.reach_floors`); None when they bound nothing.
+
+    Examples
+    --------
+    Off the pavement by 0.3 m at least: it fails, with a paved margin of -0.3 m at best;
+    beyond its own lanes only: it leaves them, by 0.2 m at least:
+
+    >>> key_ceiling({"own_lanes": 0.9, "paved": 0.3})
+    (1, -0.3)
+    >>> key_ceiling({"own_lanes": 0.2})
+    (3, -0.2)
+    >>> key_ceiling({}) is None
+    True
+    """
+    if "paved" in floors:
+        return 1, -floors["paved"]
+    if "roadway" in floors:
+        return 2, -floors["roadway"]
+    if "own_lanes" in floors:
+        return 3, -floors["own_lanes"]
+    return None
 
 
 def rank(clearances: Sequence[Clearance | None]) -> int:

@@ -137,8 +137,10 @@ class DriveStats:
         Simulation steps.
     swing_s, swing_cpu_s
         The search of swung paths (:mod:`clearance.networks.driving.swing`), model and verdicts.
-    swing_candidates, swing_judged
-        Swung paths driven, and of those judged (envelope and verdict).
+    swing_candidates, swing_judged, swing_screened
+        Swung paths driven, of those judged (envelope and verdict), and of those left
+        unjudged because a floor under their reach showed they could not be kept
+        (:mod:`clearance.analysis.screen`).
     refine_runs, refine_candidates, refine_s, refine_cpu_s
         Of those, the refinement's (:mod:`clearance.networks.driving.refine`): the runs it searched,
         the paths it drove, and its time.
@@ -157,6 +159,7 @@ class DriveStats:
     swing_cpu_s: float = 0.0
     swing_candidates: int = 0
     swing_judged: int = 0
+    swing_screened: int = 0
     refine_runs: int = 0
     refine_candidates: int = 0
     refine_s: float = 0.0

@@ -38,7 +38,7 @@ import dataclasses
 import logging
 import math
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 
 import numpy as np
 
@@ -46,6 +46,7 @@ from clearance.analysis.clearance import Areas, Clearance, RunResult, evaluate, 
 from clearance.analysis.failures import GEOMETRY_FAILURES
 from clearance.analysis.feature import feature_mask, feature_reason
 from clearance.analysis.polyline import Path
+from clearance.analysis.screen import AREAS, reach_floors
 from clearance.analysis.tracking import TrackingRun, TrackingSettings, simulate_batch
 from clearance.networks.driving.candidates import (
     LOOPED_EXCESS_DEG,
@@ -58,6 +59,7 @@ from clearance.networks.driving.judging import (
     BETTER_BY_M,
     TIERS,
     decisive_margin,
+    key_ceiling,
     rank,
     swing_reason,
     tier,
@@ -162,6 +164,8 @@ def swing_pass(
     ``path`` and ``swing_m`` where a swung path is better.
     """
     search = search or SwingSearch()
+    refine = refine or RefineSearch()
+    gain_m = refine.min_gain_m  # the compass's (see drive_all)
     t0, c0 = time.perf_counter(), time.process_time()
     for d in out:
         d.lane_result = d.result
@@ -173,21 +177,30 @@ def swing_pass(
     tried: dict[int, list[tuple[Candidate, Clearance | None]]] = {id(d): [] for d in runs}
     results: dict[int, dict[int, tuple[Clearance, TrackingRun]]] = {id(d): {} for d in runs}
     judged = 0
+    screened = 0
     count = 0
 
-    def drive_all(todo: list[tuple[DrivenRun, Candidate]]) -> list[tuple[float, ...]]:
+    def drive_all(todo: list[tuple[DrivenRun, Candidate]],
+                  floors: list[tuple[float, ...]] | None = None) -> list[tuple[float, ...]]:
         """Drive the candidates and judge those the follower could drive; the order key of
-        each (:func:`_key`)."""
-        nonlocal count, judged
+        each (:func:`_key`). With ``floors`` (a key for each candidate: the compass state
+        it moves from), a candidate that provably cannot beat its floor by the compass's
+        gain, nor become its run's best (:func:`_cannot_win`), is left unjudged."""
+        nonlocal count, judged, screened
         count += len(todo)
         keys: list[tuple[float, ...]] = []
         for lo in range(0, len(todo), options.batch_size):
             chunk = todo[lo:lo + options.batch_size]
             driven = simulate_batch([d.vehicle for d, _ in chunk], [c.path for _, c in chunk],
                                     settings)
-            for (d, cand), run in zip(chunk, driven, strict=True):
+            for j, ((d, cand), run) in enumerate(zip(chunk, driven, strict=True)):
                 res = None
-                if not feature_reason(run, feature_mask(run, cand.window_m)):
+                if floors is not None and _cannot_win(
+                        run, cand, areas[d.curve.curve_id], options.offset_m, floors[lo + j],
+                        [lane_of(d).clearance, *(c for _, c in tried[id(d)])], gain_m):
+                    screened += 1
+                    tried[id(d)].append((cand, None))
+                elif not feature_reason(run, feature_mask(run, cand.window_m)):
                     res = _judged(d, cand, run, areas[d.curve.curve_id], options.offset_m)
                     tried[id(d)].append((cand, res))
                     if res is not None:
@@ -201,27 +214,8 @@ def swing_pass(
         assert d.result is not None  # needs_swing: only runs with a result
         return d.result
 
-    # rounds of growing size: the k-th amplitude of every shape (held ones with the middle
-    # cut), until a candidate keeps the body paved
-    first = dataclasses.replace(search, apex_cuts=(search.middle_cut,))
-    active = [d for d in runs if id(d) in measured]
-    for k in range(1, search.steps + 1):
-        todo = [x for d in active for x in _family(d, measured[id(d)], first, k)]
-        drive_all(todo)
-        active = [d for d in active if not _settled(lane_of(d), tried[id(d)])]
-    # then the other cuts of the best held amplitude so far and of its neighbours
-    others = tuple(c for c in search.apex_cuts if c != search.middle_cut)
-    if others:
-        rest = dataclasses.replace(search, apex_cuts=others, shaped=False)
-        drive_all([x for d in active for k in _near_steps(tried[id(d)], search.steps)
-                   for x in _family(d, measured[id(d)], rest, k)])
-    # a run that cannot turn within the pavement's room: the widest swings, beyond it
-    wider = [x for d in runs if id(d) in measured and not tried[id(d)]
-             and lane_of(d).verdict == "cannot-turn"
-             for x in _family(d, measured[id(d)], search, None, math.inf)]
-    drive_all(wider)
+    _family_stages(runs, measured, tried, lane_of, drive_all, search)
     # a run still off the pavement by a little, or that no candidate could drive: refined
-    refine = refine or RefineSearch()
     before, t1, c1 = count, time.perf_counter(), time.process_time()
     refined = _refine([d for d in runs if id(d) in measured], measured, tried, lane_of,
                       drive_all, refine)
@@ -234,10 +228,39 @@ def swing_pass(
         stats.refine_s += time.perf_counter() - t1
         stats.refine_cpu_s += time.process_time() - c1
         stats.swing_judged += judged
+        stats.swing_screened += screened
         stats.swing_s += time.perf_counter() - t0
         stats.swing_cpu_s += time.process_time() - c0
         stats.swing_candidates += count
     return taken
+
+
+def _family_stages(runs: list[DrivenRun], measured: dict[int, _Run],
+                   tried: dict[int, list[tuple[Candidate, Clearance | None]]],
+                   lane_of: Callable[[DrivenRun], RunResult], drive_all: _Driver,
+                   search: SwingSearch) -> None:
+    """The family of shapes (:mod:`clearance.networks.driving.candidates`) for every run:
+    rounds of growing size until a candidate keeps the body paved, the other apex cuts
+    about the best held size, and the widest swings for a run that cannot turn."""
+    # rounds of growing size: the k-th amplitude of every shape (held ones with the middle
+    # cut), until a candidate keeps the body paved
+    first = dataclasses.replace(search, apex_cuts=(search.middle_cut,))
+    active = [d for d in runs if id(d) in measured]
+    for k in range(1, search.steps + 1):
+        todo = [x for d in active for x in _family(d, measured[id(d)], first, k)]
+        drive_all(todo, None)
+        active = [d for d in active if not _settled(lane_of(d), tried[id(d)])]
+    # then the other cuts of the best held amplitude so far and of its neighbours
+    others = tuple(c for c in search.apex_cuts if c != search.middle_cut)
+    if others:
+        rest = dataclasses.replace(search, apex_cuts=others, shaped=False)
+        drive_all([x for d in active for k in _near_steps(tried[id(d)], search.steps)
+                   for x in _family(d, measured[id(d)], rest, k)], None)
+    # a run that cannot turn within the pavement's room: the widest swings, beyond it
+    wider = [x for d in runs if id(d) in measured and not tried[id(d)]
+             and lane_of(d).verdict == "cannot-turn"
+             for x in _family(d, measured[id(d)], search, None, math.inf)]
+    drive_all(wider, None)
 
 
 def _prune(results: dict[int, tuple[Clearance, TrackingRun]]) -> None:
@@ -251,6 +274,31 @@ def _prune(results: dict[int, tuple[Clearance, TrackingRun]]) -> None:
     for i, (t, m) in keys.items():
         if t < top[0] or m < top[1] - BETTER_BY_M - 1e-9:
             del results[i]
+
+
+def _cannot_win(run: TrackingRun, cand: Candidate, areas: Areas, offset_m: float,
+                floor: tuple[float, ...], so_far: Sequence[Clearance | None],
+                gain_m: float) -> bool:
+    """Whether a compass move need not be judged: the best key its floors allow
+    (:func:`clearance.analysis.screen.reach_floors`,
+    :func:`~clearance.networks.driving.judging.key_ceiling`) neither beats the state it
+    moves from by ``gain_m`` (:func:`_better`: the search would not take it) nor would
+    replace the best of its run's paths so far (``so_far``, the lane's first:
+    :func:`~clearance.networks.driving.judging.rank` would not keep it). Its judging could
+    then change nothing the search does or keeps: its verdict, margins and choice are
+    the same as judging every move. A move the follower cannot drive is never left out
+    here (it is not judged anyway)."""
+    if floor[0] < 1 or feature_reason(run, feature_mask(run, cand.window_m)):
+        return False  # any path it can drive beats a state it could not drive
+    # only the areas whose floor can put it below the state's tier or margin
+    names = AREAS[:min(int(floor[0]), len(AREAS))]
+    ceiling = key_ceiling(reach_floors(run, areas, offset_m, cand.window_m, names=names))
+    if ceiling is None:
+        return False
+    best = so_far[rank(so_far)]
+    top = (tier(best), decisive_margin(best))
+    wins = ceiling[0] > top[0] or (ceiling[0] == top[0] and ceiling[1] > top[1] + BETTER_BY_M)
+    return not wins and not _better((float(ceiling[0]), ceiling[1], 0.0), floor, gain_m)
 
 
 def _key(clearance: Clearance | None, error_m: float) -> tuple[float, ...]:
@@ -316,7 +364,7 @@ def _refine(runs: list[DrivenRun], measured: dict[int, _Run],
                 firsts.append((d, cand))
                 knots.append(k)
     found: dict[int, list[tuple[tuple[float, ...], Knots]]] = {}
-    for (d, _), k, key in zip(firsts, knots, drive_all(firsts), strict=True):
+    for (d, _), k, key in zip(firsts, knots, drive_all(firsts, None), strict=True):
         found.setdefault(id(d), []).append((key, k))
     starts = [(d, s) for d in runs for s in sorted(found.get(id(d), []), key=lambda x: x[0],
                                                    reverse=True)[:refine.starts]]
@@ -324,7 +372,8 @@ def _refine(runs: list[DrivenRun], measured: dict[int, _Run],
     return len(found)
 
 
-_Driver = Callable[[list[tuple[DrivenRun, Candidate]]], list[tuple[float, ...]]]
+_Driver = Callable[[list[tuple[DrivenRun, Candidate]], list[tuple[float, ...]] | None],
+                   list[tuple[float, ...]]]
 
 
 def _compass(starts: list[tuple[DrivenRun, tuple[tuple[float, ...], Knots]]],
@@ -351,7 +400,8 @@ def _compass(starts: list[tuple[DrivenRun, tuple[tuple[float, ...], Knots]]],
         if not moves:
             break
         best_move: dict[int, tuple[tuple[float, ...], Knots]] = {}
-        for (i, k), key in zip(which, drive_all(moves), strict=True):
+        floors = [state[i][3] for i, _ in which]
+        for (i, k), key in zip(which, drive_all(moves, floors), strict=True):
             if i not in best_move or key > best_move[i][0]:
                 best_move[i] = (key, k)
         for i in active:

@@ -7,6 +7,7 @@ import pytest
 import shapely
 
 from clearance.analysis.kernels import (
+    corner_vertices,
     farthest_from_segments,
     greedy_keys,
     look_back_distance,
@@ -180,3 +181,34 @@ def test_look_back_distance_matches_shapely_on_each_look_back_window() -> None:
             piece = shapely.LineString(np.c_[px[lo:i + 2], py[lo:i + 2]])
             assert got[i] == pytest.approx(
                 shapely.distance(shapely.Point(qx[i], qy[i]), piece), abs=1e-9)
+
+
+def test_corner_vertices_are_vertices_of_shapelys_union() -> None:
+    """The corners of a swept rectangle's hulls taken for vertices of the union's boundary
+    are vertices of the union GEOS computes, to the bit: the floors of
+    :mod:`clearance.analysis.screen` rest on it."""
+    found = 0
+    for _ in range(60):
+        n = int(RNG.integers(3, 25))
+        turn = RNG.uniform(-0.3, 0.3)
+        theta = np.cumsum(np.full(n, turn)) + RNG.uniform(0, 6.3)
+        step = RNG.uniform(0.2, 1.5)
+        x = np.cumsum(step * np.cos(theta))
+        y = np.cumsum(step * np.sin(theta))
+        c, s_ = np.cos(theta)[:, None], np.sin(theta)[:, None]
+        along = np.array([-1.0, 4.0, 4.0, -1.0])
+        across = np.array([-1.0, -1.0, 1.0, 1.0])
+        corners = np.stack([x[:, None] + along * c - across * s_,
+                            y[:, None] + along * s_ + across * c], axis=-1)
+        coords, offsets = pair_hulls(corners)
+        assert len(offsets) == n
+        union = shapely.union_all(shapely.from_ragged_array(
+            shapely.GeometryType.POLYGON, coords, (offsets, np.arange(len(offsets)))))
+        vertices = {tuple(p) for p in shapely.get_coordinates(union)}
+        points = corners.reshape(-1, 2)
+        hit = corner_vertices(points, coords, offsets, 1e-9, np.pi / 8)
+        found += int(hit.sum())
+        assert {tuple(p) for p in points[hit]} <= vertices
+        # and none is inside the union
+        assert not shapely.contains_xy(union, points[hit, 0], points[hit, 1]).any()
+    assert found > 500

@@ -196,3 +196,34 @@ def test_a_through_passage_swings_the_same_way_whatever_its_float_noise():
         [d] = drive(net, [(su30, c3)], options=DriveOptions(use_sumo=False, swing=True))
         seen.add((d.verdict, round(d.result.margin_m, 6)))
     assert len(seen) == 1 and next(iter(seen))[0] == "encroaches"
+
+
+def test_moves_left_unjudged_change_nothing_the_search_keeps(tmp_path, netconvert, table,
+                                                             monkeypatch):
+    """The compass search leaves unjudged the moves whose floors show they cannot win
+    (:func:`clearance.analysis.screen.reach_floors`); judging every move instead keeps
+    the same path, verdict, margins and reason, run by run, on corners where it refines."""
+    import clearance.networks.driving.swing as swing
+    from clearance.networks.driving.runs import DriveStats
+
+    cases = []
+    for name, radius, width in (("r3", 3.0, 3.5), ("r4", 4.0, 3.5), ("r6", 6.0, 3.0)):
+        net, c = _turn(tmp_path, netconvert, name, radius, 2, 0, width)
+        cases += [(net, v, c) for v in (table.vehicle("P"), table.vehicle("CITY-BUS"))]
+
+    def run_all():
+        stats = DriveStats()
+        out = [drive(net, [(v, c)], options=DriveOptions(use_sumo=False), stats=stats)[0]
+               for net, v, c in cases]
+        return out, stats
+
+    screened, stats = run_all()
+    monkeypatch.setattr(swing, "_cannot_win", lambda *args: False)
+    every, all_judged = run_all()
+    assert stats.refine_runs == 3 and stats.swing_screened > stats.swing_judged
+    assert all_judged.swing_screened == 0
+    assert all_judged.swing_judged == stats.swing_judged + stats.swing_screened
+    for a, b in zip(screened, every, strict=True):
+        assert (a.verdict, a.reason, a.path, a.swing_m) == (b.verdict, b.reason, b.path,
+                                                            b.swing_m)
+        assert a.result.clearance == b.result.clearance
