@@ -9,10 +9,11 @@ most of that cost. A search that only needs to know that a candidate cannot beat
 already judged can do with a floor under those reaches, found from the hulls alone:
 
 - a body corner of a key pose is a vertex of the hulls about it; where those hulls cover
-  one angle about it, neither straight nor full, and no other hull comes within
-  :data:`NEAR_RING_M` of it, it is a corner of the union's boundary
+  one angle about it, short of the full turn, and no other hull comes within
+  :data:`NEAR_RING_M` of it, it is on the union's boundary
   (:func:`clearance.analysis.kernels.corner_vertices`), so a vertex of the union as GEOS
-  computes it (an overlay keeps the input's vertices where the boundary turns);
+  computes it (an overlay keeps its input's vertices on the boundary, collinear ones
+  too);
 - corners within :data:`AWAY_M` of the boxes the envelope is trimmed by are left out, so
   the corner is a vertex of the trimmed envelope's boundary too, outside the region where
   the areas' boundaries do not count;
@@ -48,7 +49,7 @@ NEAR_RING_M = 1e-9
 """A hull this close to a corner is about it (m): the corner is its vertex or on its edge."""
 
 MIN_ANGLE_RAD = math.pi / 8
-"""The hulls about a corner must cover at least this, and be this far off straight (rad)."""
+"""The hulls about a corner must cover at least this, and leave at least this open (rad)."""
 
 AREAS = ("paved", "roadway", "own_lanes")
 """The areas a floor is sought beyond, the outermost first."""
@@ -76,6 +77,30 @@ def _bodies(run: TrackingRun) -> list[tuple[np.ndarray, np.ndarray, np.ndarray, 
     return out
 
 
+def _sweep_rings(run: TrackingRun, tolerance_m: float
+                 ) -> tuple[list[np.ndarray], list[tuple[np.ndarray, np.ndarray]]]:
+    """The body corners of each part's key poses, ``(n, 4, 2)``, and the hulls
+    :func:`clearance.analysis.envelope.sweep` unites for them, as rings (coordinates and
+    offsets, :func:`clearance.analysis.kernels.pair_hulls`); none when a hull has no area."""
+    corners, rings = [], []
+    for x, y, th, ahead_m, behind_m, width_m, axle_m in _bodies(run):
+        xs, ys, ths, parts = sweep_poses(x, y, th, ahead_m, behind_m, width_m, tolerance_m,
+                                         axle_m)
+        if len(xs) == 1:  # the sweep is the body itself
+            c = body_corners(xs, ys, ths, ahead_m, behind_m, width_m)
+            corners.append(c)
+            rings.append((np.concatenate([c[0], c[:1, 0]]), np.array([0, 5])))
+            continue
+        for ahead, behind in parts:
+            c = body_corners(xs, ys, ths, ahead, behind, width_m)
+            coords, offsets = pair_hulls(np.ascontiguousarray(c))
+            if len(offsets) != len(c):  # a hull of no area: no floor from this run
+                return [], []
+            corners.append(c)
+            rings.append((coords, offsets))
+    return corners, rings
+
+
 class _Corners:
     """The body corners of a run's key poses, ``(n, 2)``, and which of them are
     corners of the sweep's boundary (tested when asked: a test is a scan of every
@@ -84,26 +109,7 @@ class _Corners:
     def __init__(self, run: TrackingRun, feature_m: tuple[float, float] | None,
                  tolerance_m: float) -> None:
         _, judged, _ = judged_part(run, feature_m)
-        corners, rings = [], []
-        for x, y, th, ahead_m, behind_m, width_m, axle_m in _bodies(judged):
-            xs, ys, ths, parts = sweep_poses(x, y, th, ahead_m, behind_m, width_m,
-                                             tolerance_m, axle_m)
-            if len(xs) == 1:  # the sweep is the body itself
-                c = body_corners(xs, ys, ths, ahead_m, behind_m, width_m)
-                corners.append(c)
-                rings.append((np.concatenate([c[0], c[:1, 0]]), np.array([0, 5])))
-                continue
-            for ahead, behind in parts:
-                c = body_corners(xs, ys, ths, ahead, behind, width_m)
-                coords, offsets = pair_hulls(np.ascontiguousarray(c))
-                if len(offsets) != len(c):  # a hull of no area: no floor from this run
-                    corners, rings = [], []
-                    break
-                corners.append(c)
-                rings.append((coords, offsets))
-            else:
-                continue
-            break
+        corners, rings = _sweep_rings(judged, tolerance_m)
         self.points: np.ndarray = np.empty((0, 2))
         if not corners:
             return
@@ -215,7 +221,6 @@ def reach_floors(run: TrackingRun, areas: Areas, offset_m: float = 0.0,
     floors: dict[str, float] = {}
     if not len(points):
         return floors
-    slack = SLACK_M
     for name in names:
         if floors:
             break
@@ -227,11 +232,11 @@ def reach_floors(run: TrackingRun, areas: Areas, offset_m: float = 0.0,
             continue
         d = segments_distance(np.ascontiguousarray(points[beyond]), areas.segments(name))
         order = np.argsort(-d, kind="stable")
-        order = order[d[order] - slack >= PRECISION_M]  # only those that could give a floor
+        order = order[d[order] - SLACK_M >= PRECISION_M]  # only those that could give a floor
         for lo in range(0, len(order), _CHUNK):
             part = order[lo:lo + _CHUNK]
             hit = corners.on_boundary(beyond[part])
             if hit.any():
-                floors[name] = float(d[part[int(np.argmax(hit))]]) - slack
+                floors[name] = float(d[part[int(np.argmax(hit))]]) - SLACK_M
                 break
     return floors

@@ -38,7 +38,7 @@ import dataclasses
 import logging
 import math
 import time
-from collections.abc import Callable, Sequence
+from collections.abc import Callable
 
 import numpy as np
 
@@ -195,12 +195,13 @@ def swing_pass(
                                     settings)
             for j, ((d, cand), run) in enumerate(zip(chunk, driven, strict=True)):
                 res = None
-                if floors is not None and _cannot_win(
+                drivable = not feature_reason(run, feature_mask(run, cand.window_m))
+                if drivable and floors is not None and _cannot_win(
                         run, cand, areas[d.curve.curve_id], options.offset_m, floors[lo + j],
-                        [lane_of(d).clearance, *(c for _, c in tried[id(d)])], gain_m):
+                        lane_of(d).clearance, tried[id(d)], gain_m):
                     screened += 1
                     tried[id(d)].append((cand, None))
-                elif not feature_reason(run, feature_mask(run, cand.window_m)):
+                elif drivable:
                     res = _judged(d, cand, run, areas[d.curve.curve_id], options.offset_m)
                     tried[id(d)].append((cand, res))
                     if res is not None:
@@ -277,24 +278,24 @@ def _prune(results: dict[int, tuple[Clearance, TrackingRun]]) -> None:
 
 
 def _cannot_win(run: TrackingRun, cand: Candidate, areas: Areas, offset_m: float,
-                floor: tuple[float, ...], so_far: Sequence[Clearance | None],
-                gain_m: float) -> bool:
-    """Whether a compass move need not be judged: the best key its floors allow
-    (:func:`clearance.analysis.screen.reach_floors`,
+                floor: tuple[float, ...], lane: Clearance,
+                tried: list[tuple[Candidate, Clearance | None]], gain_m: float) -> bool:
+    """Whether a compass move the follower can drive need not be judged: the best key its
+    floors allow (:func:`clearance.analysis.screen.reach_floors`,
     :func:`~clearance.networks.driving.judging.key_ceiling`) neither beats the state it
     moves from by ``gain_m`` (:func:`_better`: the search would not take it) nor would
-    replace the best of its run's paths so far (``so_far``, the lane's first:
+    replace the best of its run's paths so far (``lane``, then those ``tried``:
     :func:`~clearance.networks.driving.judging.rank` would not keep it). Its judging could
     then change nothing the search does or keeps: its verdict, margins and choice are
-    the same as judging every move. A move the follower cannot drive is never left out
-    here (it is not judged anyway)."""
-    if floor[0] < 1 or feature_reason(run, feature_mask(run, cand.window_m)):
+    the same as judging every move."""
+    if floor[0] < 1:
         return False  # any path it can drive beats a state it could not drive
     # only the areas whose floor can put it below the state's tier or margin
     names = AREAS[:min(int(floor[0]), len(AREAS))]
     ceiling = key_ceiling(reach_floors(run, areas, offset_m, cand.window_m, names=names))
     if ceiling is None:
         return False
+    so_far = [lane, *(c for _, c in tried)]
     best = so_far[rank(so_far)]
     top = (tier(best), decisive_margin(best))
     wins = ceiling[0] > top[0] or (ceiling[0] == top[0] and ceiling[1] > top[1] + BETTER_BY_M)
